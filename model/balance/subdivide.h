@@ -1,0 +1,16 @@
+// Sphere subdivision (the paper's Fig. 9): an object's primitives split into K spatially
+// coherent clusters, each later bounded by its own sphere; all share the object's motion.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace oprt {
+
+// K non-empty clusters (fewer if the object has fewer than K triangles); every triangle
+// in exactly one. Deterministic.
+std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, int k);
+
+}  // namespace oprt

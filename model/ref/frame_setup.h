@@ -1,0 +1,27 @@
+// What the GPP computes at the start of each frame from the objects' matrices and writes
+// into the intersection units' configuration registers: per sphere its world centre and
+// radius, per object its world -> local matrix. Shared by the reference and the model, so
+// both test the same rounded numbers.
+#pragma once
+
+#include "ref/scene_geometry.h"
+
+namespace oprt {
+
+template <typename T>
+struct FrameSetup {
+  int frame = 0;
+  Camera camera;
+  std::vector<Placement> placement;     // per object, double (the GPP's own copy)
+  std::vector<Affine<T>> to_local;      // per object, as the IU registers hold it
+  std::vector<Sphere<T>> world_sphere;  // per sphere
+};
+
+// Throws InputError if an object's matrix at this frame is not invertible.
+template <typename T>
+FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int frame);
+
+extern template FrameSetup<float> setup_frame(const Scene&, const SceneGeometry<float>&, int);
+extern template FrameSetup<double> setup_frame(const Scene&, const SceneGeometry<double>&, int);
+
+}  // namespace oprt

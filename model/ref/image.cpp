@@ -1,0 +1,135 @@
+#include "ref/image.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+
+#include <stb_image_write.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace oprt {
+
+FrameImage::FrameImage(int w, int h) : width(w), height(h) {
+  const std::size_t n = size();
+  r.assign(n, 0);
+  g.assign(n, 0);
+  b.assign(n, 0);
+  z.assign(n, std::numeric_limits<float>::infinity());
+  object.assign(n, 0xFFFFFFFFu);
+  prim.assign(n, 0xFFFFFFFFu);
+}
+
+std::uint64_t FrameImage::hash() const {
+  std::uint64_t h = 1469598103934665603ULL;
+  auto mix = [&](const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ULL;
+  };
+  mix(&width, sizeof width);
+  mix(&height, sizeof height);
+  for (const auto* c : {&r, &g, &b, &z}) mix(c->data(), c->size() * sizeof(float));
+  for (const auto* c : {&object, &prim}) mix(c->data(), c->size() * sizeof(std::uint32_t));
+  return h;
+}
+
+bool FrameImage::operator==(const FrameImage& o) const {
+  auto same = [](const std::vector<float>& a, const std::vector<float>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+  };
+  return width == o.width && height == o.height && same(r, o.r) && same(g, o.g) && same(b, o.b) &&
+         same(z, o.z) && object == o.object && prim == o.prim;
+}
+
+std::string frame_name(int frame, const char* ext) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "frame_%04d.%s", frame, ext);
+  return buf;
+}
+
+void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  // Same directory (rename is atomic only within a file system), hidden, unique per process.
+  const fs::path tmp = target.parent_path() /
+                       ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
+  try {
+    write(tmp.string());
+    fs::rename(tmp, target);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+}
+
+void write_exr(const std::string& path, const FrameImage& img) {
+  write_atomically(path, [&](const std::string& tmp) {
+    Imf::Header header(img.width, img.height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    for (const char* c : {"R", "G", "B", "Z"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    for (const char* c : {"objectId", "primId"}) header.channels().insert(c, Imf::Channel(Imf::UINT));
+    Imf::FrameBuffer fb;
+    const std::size_t fs = sizeof(float), us = sizeof(std::uint32_t);
+    auto slice_f = [&](const char* name, const std::vector<float>& v) {
+      fb.insert(name, Imf::Slice(Imf::FLOAT, (char*)v.data(), fs, fs * img.width));
+    };
+    slice_f("R", img.r);
+    slice_f("G", img.g);
+    slice_f("B", img.b);
+    slice_f("Z", img.z);
+    fb.insert("objectId", Imf::Slice(Imf::UINT, (char*)img.object.data(), us, us * img.width));
+    fb.insert("primId", Imf::Slice(Imf::UINT, (char*)img.prim.data(), us, us * img.width));
+    Imf::OutputFile file(tmp.c_str(), header);
+    file.setFrameBuffer(fb);
+    file.writePixels(img.height);
+  });
+}
+
+FrameImage read_exr(const std::string& path) {
+  Imf::InputFile file(path.c_str());
+  const auto dw = file.header().dataWindow();
+  FrameImage img(dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1);
+  Imf::FrameBuffer fb;
+  const std::size_t fs = sizeof(float), us = sizeof(std::uint32_t);
+  const std::ptrdiff_t origin = -(static_cast<std::ptrdiff_t>(dw.min.y) * img.width + dw.min.x);
+  auto slice_f = [&](const char* name, std::vector<float>& v) {
+    fb.insert(name, Imf::Slice(Imf::FLOAT, (char*)(v.data() + origin), fs, fs * img.width));
+  };
+  slice_f("R", img.r);
+  slice_f("G", img.g);
+  slice_f("B", img.b);
+  slice_f("Z", img.z);
+  fb.insert("objectId", Imf::Slice(Imf::UINT, (char*)(img.object.data() + origin), us, us * img.width));
+  fb.insert("primId", Imf::Slice(Imf::UINT, (char*)(img.prim.data() + origin), us, us * img.width));
+  file.setFrameBuffer(fb);
+  file.readPixels(dw.min.y, dw.max.y);
+  return img;
+}
+
+void write_png(const std::string& path, const FrameImage& img) {
+  std::vector<unsigned char> rgb(img.size() * 3);
+  auto encode = [](float x) {
+    const double c = std::clamp(static_cast<double>(x), 0.0, 1.0);
+    return static_cast<unsigned char>(std::lround(std::pow(c, 1 / 2.2) * 255));
+  };
+  for (std::size_t i = 0; i < img.size(); ++i) {
+    rgb[3 * i] = encode(img.r[i]);
+    rgb[3 * i + 1] = encode(img.g[i]);
+    rgb[3 * i + 2] = encode(img.b[i]);
+  }
+  write_atomically(path, [&](const std::string& tmp) {
+    if (!stbi_write_png(tmp.c_str(), img.width, img.height, 3, rgb.data(), img.width * 3))
+      throw std::runtime_error("cannot write " + path);
+  });
+}
+
+}  // namespace oprt

@@ -1,0 +1,37 @@
+// A rendered frame and its files: frame_NNNN.exr (R, G, B, Z as float; objectId, primId
+// as uint, 0xFFFFFFFF on a miss) and a PNG preview. Files are written under a temporary
+// name and renamed when complete, so a file with the final name is always whole.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace oprt {
+
+struct FrameImage {
+  int width = 0, height = 0;
+  std::vector<float> r, g, b, z;
+  std::vector<std::uint32_t> object, prim;
+
+  FrameImage() = default;
+  FrameImage(int w, int h);
+  std::size_t size() const { return static_cast<std::size_t>(width) * height; }
+  // FNV-1a over every channel's bits: equal hashes, equal images (for golden files).
+  std::uint64_t hash() const;
+  bool operator==(const FrameImage& o) const;
+};
+
+void write_exr(const std::string& path, const FrameImage& img);
+FrameImage read_exr(const std::string& path);
+// sRGB-ish preview: clamp to [0, 1], gamma 2.2.
+void write_png(const std::string& path, const FrameImage& img);
+
+// Write `path` through `write(tmp)`: the temporary is renamed to `path` only if write
+// returns normally; on an exception it is removed. Throws std::runtime_error on I/O failure.
+void write_atomically(const std::string& path, const std::function<void(const std::string& tmp)>& write);
+
+std::string frame_name(int frame, const char* ext);  // frame_0007.exr
+
+}  // namespace oprt

@@ -1,0 +1,38 @@
+// The untimed functional reference of the paper's algorithm: per pixel one primary ray,
+// nearest hit over every bounding sphere (brute force inside each), Phong shading with one
+// any-hit shadow ray per light. It is one intersection unit holding every sphere in scene
+// order, so its work counts are the paper's per-object counts.
+#pragma once
+
+#include "ref/image.h"
+#include "ref/shading.h"
+
+#include <array>
+#include <vector>
+
+namespace oprt {
+
+struct FrameWork {
+  // [ray kind][sphere]
+  std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;
+  std::array<std::uint64_t, kRayKinds> rays{};
+
+  explicit FrameWork(std::size_t spheres = 0) {
+    for (auto& v : per_sphere) v.assign(spheres, WorkCounts{});
+  }
+  WorkCounts total(RayKind k) const;
+  WorkCounts total() const;
+};
+
+struct FrameResult {
+  FrameImage image;
+  FrameWork work;
+};
+
+template <typename T>
+FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int frame, int width, int height);
+
+extern template FrameResult render_reference(const Scene&, const SceneGeometry<float>&, int, int, int);
+extern template FrameResult render_reference(const Scene&, const SceneGeometry<double>&, int, int, int);
+
+}  // namespace oprt

@@ -1,0 +1,40 @@
+// The geometry as the engine holds it, built once before the animation: per bounding
+// sphere its local sphere and its triangles in the kernel's memory format, in precision T.
+// The reference renderer reads it directly; the hardware model's object memories hold
+// the spheres assigned to each IU.
+#pragma once
+
+#include "balance/spheres.h"
+#include "geom/sphere.h"
+#include "geom/triangle_soa.h"
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace oprt {
+
+enum class Precision { single, dual };  // float | double
+
+template <typename T>
+struct SceneGeometry {
+  std::vector<SphereDef> defs;           // what each sphere bounds (double, for balance)
+  std::vector<Sphere<T>> local_sphere;   // per sphere, enclosing its T-rounded triangles
+  std::vector<std::uint32_t> object;     // per sphere: its object
+  std::vector<std::uint32_t> first;      // per sphere: first triangle in `tris`; size + 1
+  MollerSoA<T> tris;                     // grouped by sphere, each sphere's in prim order
+  std::vector<std::uint32_t> prim;       // per stored triangle: index in the object's mesh
+
+  std::uint32_t sphere_count() const { return static_cast<std::uint32_t>(object.size()); }
+  std::uint32_t triangles_in(std::uint32_t s) const { return first[s + 1] - first[s]; }
+  // Bytes one triangle occupies in object memory (the memory model charges transfers).
+  static constexpr std::uint32_t kTriangleBytes = 12 * sizeof(T);
+};
+
+template <typename T>
+SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs);
+
+extern template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>);
+extern template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>);
+
+}  // namespace oprt

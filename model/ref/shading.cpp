@@ -1,0 +1,101 @@
+#include "ref/shading.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace oprt {
+
+namespace {
+double row_sum_norm(const Affine<double>& a) {  // infinity norm of the linear part
+  double n = 0;
+  for (int i = 0; i < 3; ++i)
+    n = std::max(n, std::fabs(a.m[i][0]) + std::fabs(a.m[i][1]) + std::fabs(a.m[i][2]));
+  return n;
+}
+}  // namespace
+
+template <typename T>
+Vec3d offset_origin(const Vec3d& p, const Vec3d& n, const Placement& pl, const Vec3d& v0,
+                    const Vec3d& v1, const Vec3d& v2) {
+  // The IU decides which side of the plane the origin lies on from t det = (o' - v0).n in
+  // T, where o' = to_local(o) is computed in T (every coordinate rounded up to a few ulps of
+  // the magnitudes |L^-1| |o| + |t^-1|), and v0, e1, e2, n are the T-rounded triangle
+  // (an ulp of the vertex magnitudes). The plane distance so evaluated errs by a few ulps of
+  // those magnitudes, in local units; the largest stretch of to_world turns that into world
+  // units. A further few ulps of |p| cover rounding the origin itself to T. The factor 16
+  // is the safety the count of roundings (at most 8 in any chain above) asks for, doubled.
+  const double eps = std::numeric_limits<T>::epsilon();
+  const double local_mag = row_sum_norm(pl.to_local) * max_abs_component(p) +
+                           max_abs_component(pl.to_local.translation()) +
+                           std::max({max_abs_component(v0), max_abs_component(v1), max_abs_component(v2)}) +
+                           std::max(max_abs_component(v1 - v0), max_abs_component(v2 - v0));
+  const double d = 16 * eps * (max_stretch(pl.to_world) * local_mag + max_abs_component(p));
+  Vec3d o = p + n * d;
+  // Rounding o to T must not undo the offset: round each coordinate away from the surface.
+  for (int i = 0; i < 3; ++i) {
+    const T r = static_cast<T>(o[i]);
+    if (n[i] > 0 && static_cast<double>(r) < o[i]) o[i] = std::nextafter(r, kInf<T>);
+    else if (n[i] < 0 && static_cast<double>(r) > o[i]) o[i] = std::nextafter(r, -kInf<T>);
+    else o[i] = r;
+  }
+  return o;
+}
+
+template <typename T>
+ShadeState<T> Shader<T>::prepare(const Ray<T>& primary, const HitRecord<T>& hit,
+                                 std::vector<Ray<T>>& shadow) const {
+  ShadeState<T> s;
+  const Object& obj = scene_.objects[hit.object];
+  const Material& mat = scene_.materials[obj.material];
+  const Placement& pl = frame_.placement[hit.object];
+  const Tri& tri = obj.mesh.triangles[hit.prim];
+  const Vec3d a = obj.mesh.vertices[tri[0]], b = obj.mesh.vertices[tri[1]], c = obj.mesh.vertices[tri[2]];
+  const double u = hit.u, v = hit.v;
+  const Vec3d p = pl.to_world.point(a + (b - a) * u + (c - a) * v);
+  // Normals transform by the inverse transpose: n_world = (L^-1)^T n_local.
+  const Vec3d nl = cross3(b - a, c - a);
+  const auto& li = pl.to_local.m;
+  Vec3d n{li[0][0] * nl.x + li[1][0] * nl.y + li[2][0] * nl.z,
+          li[0][1] * nl.x + li[1][1] * nl.y + li[2][1] * nl.z,
+          li[0][2] * nl.x + li[1][2] * nl.y + li[2][2] * nl.z};
+  n = glm::normalize(n);
+  const Vec3d view = -glm::normalize(Vec3d(primary.d));
+  if (dot3(n, view) < 0) n = -n;  // two-sided: shade the side the ray sees
+  s.color = scene_.ambient * mat.diffuse;
+  bool have_origin = false;
+  Vec3d origin;
+  for (const PointLight& light : scene_.lights) {
+    const Vec3d to_light = light.position - p;
+    const double dist = std::sqrt(dot3(to_light, to_light));
+    if (!(dist > 0)) continue;
+    const Vec3d l = to_light / dist;
+    const double cos_l = dot3(n, l);
+    if (!(cos_l > 0)) continue;  // light behind the surface: unlit, no ray needed
+    const Vec3d r = n * (2 * cos_l) - l;
+    const double spec = std::pow(std::max(0.0, dot3(r, view)), mat.shininess);
+    s.light_term.push_back((mat.diffuse * cos_l + mat.specular * spec) * light.color);
+    if (!have_origin) {
+      origin = offset_origin<T>(p, n, pl, a, b, c);
+      have_origin = true;
+    }
+    const Vec3d d = light.position - origin;
+    const double len = std::sqrt(dot3(d, d));
+    shadow.push_back({Vec3<T>(origin), Vec3<T>(d / len), static_cast<T>(len)});
+  }
+  return s;
+}
+
+template <typename T>
+Vec3d Shader<T>::finish(const ShadeState<T>& s, const std::uint8_t* occluded) const {
+  Vec3d c = s.color;
+  for (std::size_t i = 0; i < s.light_term.size(); ++i)
+    if (!occluded[i]) c += s.light_term[i];
+  return c;
+}
+
+template class Shader<float>;
+template class Shader<double>;
+template Vec3d offset_origin<float>(const Vec3d&, const Vec3d&, const Placement&, const Vec3d&, const Vec3d&, const Vec3d&);
+template Vec3d offset_origin<double>(const Vec3d&, const Vec3d&, const Placement&, const Vec3d&, const Vec3d&, const Vec3d&);
+
+}  // namespace oprt

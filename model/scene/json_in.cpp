@@ -1,0 +1,188 @@
+#include "scene/json_in.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace oprt {
+
+namespace {
+std::string escape_pointer(const std::string& key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
+
+std::string describe(double x) {
+  if (std::isnan(x)) return "NaN";
+  if (std::isinf(x)) return x > 0 ? "infinity" : "-infinity";
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+}  // namespace
+
+nlohmann::json JsonIn::parse_text(const std::string& text, const std::string& file) {
+  try {
+    // Comments are not JSON; NaN and Infinity are not JSON either, and the parser rejects them.
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    // e.byte is 1-based; turn it into line:column.
+    std::size_t line = 1, col = 1;
+    const std::size_t end = std::min<std::size_t>(e.byte ? e.byte - 1 : 0, text.size());
+    for (std::size_t i = 0; i < end; ++i) {
+      if (text[i] == '\n') ++line, col = 1;
+      else ++col;
+    }
+    std::string what = e.what();
+    const auto colon = what.find("parse error");
+    if (colon != std::string::npos) what = what.substr(colon);
+    throw InputError(file, "line " + std::to_string(line) + ", column " + std::to_string(col),
+                     "malformed JSON: " + what);
+  }
+}
+
+nlohmann::json JsonIn::parse_file(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file, "", "cannot open file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError(file, "", "cannot read file");
+  return parse_text(ss.str(), file);
+}
+
+void JsonIn::fail(const std::string& problem) const { throw InputError(file_, place(), problem); }
+
+std::string JsonIn::type_name() const { return j_->type_name(); }
+
+JsonIn JsonIn::at(const std::string& key) const {
+  if (!j_->is_object()) fail("expected an object, found " + type_name());
+  auto it = j_->find(key);
+  if (it == j_->end()) fail("missing required key \"" + key + "\"");
+  return JsonIn(*it, file_, path_ + "/" + escape_pointer(key));
+}
+
+std::optional<JsonIn> JsonIn::find(const std::string& key) const {
+  if (!j_->is_object()) fail("expected an object, found " + type_name());
+  auto it = j_->find(key);
+  if (it == j_->end()) return std::nullopt;
+  return JsonIn(*it, file_, path_ + "/" + escape_pointer(key));
+}
+
+void JsonIn::only_keys(std::initializer_list<const char*> allowed) const {
+  if (!j_->is_object()) fail("expected an object, found " + type_name());
+  for (auto it = j_->begin(); it != j_->end(); ++it) {
+    bool ok = false;
+    for (const char* a : allowed) ok = ok || it.key() == a;
+    if (!ok) {
+      std::string list;
+      for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+      JsonIn(*it, file_, path_ + "/" + escape_pointer(it.key()))
+          .fail("unknown key \"" + it.key() + "\" (expected one of: " + list + ")");
+    }
+  }
+}
+
+std::vector<JsonIn> JsonIn::items() const {
+  if (!j_->is_array()) fail("expected an array, found " + type_name());
+  std::vector<JsonIn> out;
+  out.reserve(j_->size());
+  for (std::size_t i = 0; i < j_->size(); ++i)
+    out.emplace_back((*j_)[i], file_, path_ + "/" + std::to_string(i));
+  return out;
+}
+
+std::vector<std::pair<std::string, JsonIn>> JsonIn::members() const {
+  if (!j_->is_object()) fail("expected an object, found " + type_name());
+  std::vector<std::pair<std::string, JsonIn>> out;
+  for (auto it = j_->begin(); it != j_->end(); ++it)
+    out.emplace_back(it.key(), JsonIn(*it, file_, path_ + "/" + escape_pointer(it.key())));
+  return out;
+}
+
+double JsonIn::number() const {
+  if (!j_->is_number()) fail("expected a number, found " + type_name());
+  const double x = j_->get<double>();
+  if (!std::isfinite(x)) fail("expected a finite number, found " + describe(x));
+  return x;
+}
+
+double JsonIn::number(double lo, double hi) const {
+  const double x = number();
+  if (x < lo || x > hi)
+    fail("value " + describe(x) + " is out of range [" + describe(lo) + ", " + describe(hi) + "]");
+  return x;
+}
+
+long long JsonIn::integer(long long lo, long long hi) const {
+  if (!j_->is_number_integer()) {
+    if (j_->is_number_float()) {
+      const double x = j_->get<double>();
+      if (std::isfinite(x) && x == std::floor(x) && std::fabs(x) < 9e15) {
+        const auto v = static_cast<long long>(x);
+        if (v < lo || v > hi)
+          fail("value " + std::to_string(v) + " is out of range [" + std::to_string(lo) + ", " +
+               std::to_string(hi) + "]");
+        return v;
+      }
+    }
+    fail("expected an integer, found " + (j_->is_number() ? describe(j_->get<double>()) : type_name()));
+  }
+  long long v;
+  if (j_->is_number_unsigned()) {
+    const auto u = j_->get<unsigned long long>();
+    if (u > static_cast<unsigned long long>(hi)) fail("value " + std::to_string(u) + " is too large");
+    v = static_cast<long long>(u);
+  } else {
+    v = j_->get<long long>();
+  }
+  if (v < lo || v > hi)
+    fail("value " + std::to_string(v) + " is out of range [" + std::to_string(lo) + ", " +
+         std::to_string(hi) + "]");
+  return v;
+}
+
+bool JsonIn::boolean() const {
+  if (!j_->is_boolean()) fail("expected true or false, found " + type_name());
+  return j_->get<bool>();
+}
+
+std::string JsonIn::string() const {
+  if (!j_->is_string()) fail("expected a string, found " + type_name());
+  return j_->get<std::string>();
+}
+
+Vec3d JsonIn::vec3() const {
+  if (!j_->is_array() || j_->size() != 3)
+    fail("expected an array of 3 numbers, found " +
+         (j_->is_array() ? "an array of " + std::to_string(j_->size()) : type_name()));
+  auto it = items();
+  return {it[0].number(), it[1].number(), it[2].number()};
+}
+
+double JsonIn::number_or(const std::string& key, double def, double lo, double hi) const {
+  auto v = find(key);
+  return v ? v->number(lo, hi) : def;
+}
+long long JsonIn::integer_or(const std::string& key, long long def, long long lo, long long hi) const {
+  auto v = find(key);
+  return v ? v->integer(lo, hi) : def;
+}
+bool JsonIn::boolean_or(const std::string& key, bool def) const {
+  auto v = find(key);
+  return v ? v->boolean() : def;
+}
+std::string JsonIn::string_or(const std::string& key, const std::string& def) const {
+  auto v = find(key);
+  return v ? v->string() : def;
+}
+Vec3d JsonIn::vec3_or(const std::string& key, const Vec3d& def) const {
+  auto v = find(key);
+  return v ? v->vec3() : def;
+}
+
+}  // namespace oprt

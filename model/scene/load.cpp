@@ -1,0 +1,47 @@
+#include "scene/load.h"
+
+#include "scene/error.h"
+
+#include <algorithm>
+#include <filesystem>
+
+namespace oprt {
+
+Scene load_scene(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (!std::filesystem::exists(path)) throw InputError(path, "", "no such file");
+  if (ext == ".json") return load_oprt_json(path);
+  throw InputError(path, "", "unknown scene format \"" + ext + "\" (expected .json)");
+}
+
+void validate_scene(const Scene& s) {
+  const std::string& f = s.source;
+  if (s.objects.empty()) throw InputError(f, "objects", "scene has no objects");
+  if (!s.camera) throw InputError(f, "camera", "scene has no camera");
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    const Object& o = s.objects[i];
+    const std::string where = "object " + std::to_string(i) + " (\"" + o.name + "\")";
+    if (o.mesh.triangles.empty()) throw InputError(f, where, "object has no triangles");
+    if (o.material >= s.materials.size()) throw InputError(f, where, "material index out of range");
+    for (std::size_t v = 0; v < o.mesh.vertices.size(); ++v)
+      if (!all_finite(o.mesh.vertices[v]))
+        throw InputError(f, where + " vertex " + std::to_string(v), "coordinate is not finite");
+    for (std::size_t t = 0; t < o.mesh.triangles.size(); ++t)
+      for (std::uint32_t k : o.mesh.triangles[t])
+        if (k >= o.mesh.vertices.size())
+          throw InputError(f, where + " triangle " + std::to_string(t),
+                           "vertex index " + std::to_string(k) + " out of range");
+    if (!o.motion) throw InputError(f, where, "object has no motion");
+    for (int fr = 0; fr < s.frame_count; ++fr) {
+      const std::string why = why_not_invertible(o.motion->at(fr));
+      if (!why.empty()) throw InputError(f, where + " at frame " + std::to_string(fr), why);
+      if (!o.motion->animated()) break;
+    }
+  }
+  for (std::size_t i = 0; i < s.lights.size(); ++i)
+    if (!all_finite(s.lights[i].position) || !all_finite(s.lights[i].color))
+      throw InputError(f, "light " + std::to_string(i), "position or colour is not finite");
+}
+
+}  // namespace oprt

@@ -1,0 +1,19 @@
+// Loading a scene file into memory. The format is chosen by extension: .json (oprt-scene/1),
+// .aff (BART), .gltf / .glb (glTF 2.0). Every failure is an InputError.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <string>
+
+namespace oprt {
+
+Scene load_scene(const std::string& path);
+Scene load_oprt_json(const std::string& path);
+Mesh load_obj(const std::string& path);
+
+// Checks shared by every loader: at least one object, every object with triangles, indices
+// in range, finite vertices, materials in range, motions invertible at every frame.
+void validate_scene(const Scene& scene);
+
+}  // namespace oprt

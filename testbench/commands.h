@@ -1,0 +1,20 @@
+// The oprt subcommands (main.cpp parses the command line and dispatches here).
+#pragma once
+
+#include <string>
+
+namespace oprt {
+
+struct CommonOptions {
+  std::string scene;
+  std::string frames;
+  std::string resolution;
+  std::string out = "out";
+  std::string precision = "float";
+  int subdivide = 1;
+};
+
+int run_info(const CommonOptions& o);
+int run_reference(const CommonOptions& o);
+
+}  // namespace oprt

@@ -1,0 +1,43 @@
+// oprt info: what the engine will hold for a scene.
+#include "balance/spheres.h"
+#include "commands.h"
+#include "geom/bounding_sphere.h"
+#include "scene/load.h"
+
+#include <cstdio>
+
+namespace oprt {
+
+int run_info(const CommonOptions& o) {
+  const Scene scene = load_scene(o.scene);
+  const auto spheres = make_spheres(scene, o.subdivide);
+  std::printf("scene       %s\n", o.scene.c_str());
+  std::printf("image       %dx%d, %d frame%s, %zu light%s\n", scene.width, scene.height, scene.frame_count,
+              scene.frame_count == 1 ? "" : "s", scene.lights.size(), scene.lights.size() == 1 ? "" : "s");
+  std::printf("triangles   %zu\n", scene.triangle_count());
+  std::printf("objects     %zu\n", scene.objects.size());
+  std::printf("spheres     %zu (subdivide %d)\n", spheres.size(), o.subdivide);
+  for (const auto& n : scene.notes) std::printf("note        %s\n", n.c_str());
+  std::printf("\n%6s %6s  %-20s %30s %10s %12s %8s %14s\n", "sphere", "object", "name", "centre (local)",
+              "radius", "area", "prims", "SA x N");
+  double sum_san = 0, sum_r = 0, sum_ritter = 0;
+  for (std::size_t s = 0; s < spheres.size(); ++s) {
+    const SphereDef& d = spheres[s];
+    const Object& obj = scene.objects[d.object];
+    std::printf("%6zu %6u  %-20.20s (%8.3f, %8.3f, %8.3f) %10.4f %12.4f %8zu %14.2f\n", s, d.object,
+                obj.name.c_str(), d.local.c.x, d.local.c.y, d.local.c.z, d.local.r, d.surface_area(),
+                d.prims.size(), d.sa_n());
+    sum_san += d.sa_n();
+    sum_r += d.local.r;
+    std::vector<Vec3d> pts;
+    for (auto p : d.prims)
+      for (auto k : obj.mesh.triangles[p]) pts.push_back(obj.mesh.vertices[k]);
+    sum_ritter += ritter_sphere(pts).r;
+  }
+  std::printf("\nsum of SA x N  %.6g\n", sum_san);
+  std::printf("radii: minimal enclosing spheres (Welzl) sum %.6g; Ritter's approximation would be %.4fx\n",
+              sum_r, sum_ritter / sum_r);
+  return 0;
+}
+
+}  // namespace oprt

@@ -1,0 +1,53 @@
+// oprt: the command line of the object-parallel ray-tracing engine model.
+//   oprt render SCENE ...     the timed SystemC model
+//   oprt reference SCENE ...  the untimed functional reference
+//   oprt info SCENE ...       scene, spheres and their assignment
+// Any bad input ends with one message "oprt: FILE: PLACE: PROBLEM" and exit status 2.
+#include "commands.h"
+#include "scene/error.h"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+int main(int argc, char** argv) {
+  using namespace oprt;
+  CLI::App app{"oprt: a SystemC/TLM-2.0 model of an object-parallel ray-tracing engine for animated scenes"};
+  app.require_subcommand(1);
+  CommonOptions opt;
+
+  auto add_scene = [&](CLI::App* sub) {
+    sub->add_option("SCENE", opt.scene, "scene file (.json)")->required();
+  };
+  auto* info = app.add_subcommand("info", "print the scene, its bounding spheres and their SA x N");
+  add_scene(info);
+  info->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
+
+  auto* ref = app.add_subcommand("reference", "render with the untimed functional reference");
+  add_scene(ref);
+  ref->add_option("--precision", opt.precision, "float | double")->check(CLI::IsMember({"float", "double"}));
+  ref->add_option("--frames", opt.frames, "N or A:B (inclusive); default: every frame");
+  ref->add_option("--resolution", opt.resolution, "WxH; default: the scene's");
+  ref->add_option("--out", opt.out, "output directory");
+  ref->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "oprt: " << e.what() << "\n";
+    return 2;
+  }
+  try {
+    if (*info) return run_info(opt);
+    if (*ref) return run_reference(opt);
+  } catch (const InputError& e) {
+    std::cerr << "oprt: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "oprt: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

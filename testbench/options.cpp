@@ -1,0 +1,50 @@
+#include "options.h"
+
+#include "scene/error.h"
+
+#include <cctype>
+
+namespace oprt {
+
+namespace {
+bool parse_int(const std::string& s, long long& out) {
+  if (s.empty() || s.size() > 9) return false;
+  for (char c : s)
+    if (!std::isdigit(static_cast<unsigned char>(c))) return false;
+  out = std::stoll(s);
+  return true;
+}
+}  // namespace
+
+FrameRange parse_frames(const std::string& text, const Scene& scene) {
+  FrameRange r{0, scene.frame_count - 1};
+  if (text.empty()) return r;
+  const auto colon = text.find(':');
+  long long a, b;
+  if (colon == std::string::npos) {
+    if (!parse_int(text, a)) throw InputError("--frames", text, "expected N or A:B (non-negative integers)");
+    b = a;
+  } else if (!parse_int(text.substr(0, colon), a) || !parse_int(text.substr(colon + 1), b)) {
+    throw InputError("--frames", text, "expected N or A:B (non-negative integers)");
+  }
+  if (a > b) throw InputError("--frames", text, "first frame is after the last");
+  if (b >= scene.frame_count)
+    throw InputError("--frames", text,
+                     "scene has frames 0:" + std::to_string(scene.frame_count - 1) + " only");
+  r.first = static_cast<int>(a);
+  r.last = static_cast<int>(b);
+  return r;
+}
+
+void parse_resolution(const std::string& text, int& width, int& height) {
+  if (text.empty()) return;
+  const auto x = text.find('x');
+  long long w, h;
+  if (x == std::string::npos || !parse_int(text.substr(0, x), w) || !parse_int(text.substr(x + 1), h) ||
+      w < 1 || h < 1 || w > 16384 || h > 16384)
+    throw InputError("--resolution", text, "expected WxH with 1 <= W, H <= 16384");
+  width = static_cast<int>(w);
+  height = static_cast<int>(h);
+}
+
+}  // namespace oprt

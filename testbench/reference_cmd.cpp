@@ -1,0 +1,88 @@
+// oprt reference: the untimed functional renderer; frames, previews and work counts.
+#include "balance/spheres.h"
+#include "commands.h"
+#include "options.h"
+#include "ref/reference.h"
+#include "scene/load.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+namespace oprt {
+
+namespace {
+
+nlohmann::json work_json(const WorkCounts& w) {
+  return {{"sphere_tests", w.sphere_tests},
+          {"transforms", w.transforms},
+          {"triangle_tests", w.tri_tests()},
+          {"triangle_exit_stage", {w.tri_stage[0], w.tri_stage[1], w.tri_stage[2], w.tri_stage[3]}},
+          {"triangle_hits", w.tri_hits}};
+}
+
+template <typename T>
+int reference(const CommonOptions& o, const Scene& scene) {
+  int width = scene.width, height = scene.height;
+  parse_resolution(o.resolution, width, height);
+  const FrameRange frames = parse_frames(o.frames, scene);
+  const auto t_build = std::chrono::steady_clock::now();
+  const SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, o.subdivide));
+  const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
+  std::filesystem::create_directories(o.out);
+
+  nlohmann::json stats = {{"scene", o.scene},
+                          {"precision", o.precision},
+                          {"resolution", {width, height}},
+                          {"spheres", g.sphere_count()},
+                          {"triangles", scene.triangle_count()},
+                          {"build_s", build_s},
+                          {"frames", nlohmann::json::array()}};
+  for (int f = frames.first; f <= frames.last; ++f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const FrameResult r = render_reference(scene, g, f, width, height);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::string exr = (std::filesystem::path(o.out) / frame_name(f, "exr")).string();
+    write_exr(exr, r.image);
+    write_png((std::filesystem::path(o.out) / frame_name(f, "png")).string(), r.image);
+    const std::uint64_t rays = r.work.rays[0] + r.work.rays[1];
+    nlohmann::json per_object = nlohmann::json::array();
+    for (std::size_t obj = 0; obj < scene.objects.size(); ++obj) {
+      WorkCounts kinds[kRayKinds];
+      for (int k = 0; k < kRayKinds; ++k)
+        for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
+          if (g.object[s] == obj) kinds[k] += r.work.per_sphere[k][s];
+      per_object.push_back({{"object", obj}, {"name", scene.objects[obj].name},
+                            {"primary", work_json(kinds[0])}, {"shadow", work_json(kinds[1])}});
+    }
+    stats["frames"].push_back({{"frame", f},
+                               {"wall_s", wall},
+                               {"rays", {{"primary", r.work.rays[0]}, {"shadow", r.work.rays[1]}}},
+                               {"rays_per_s", rays / wall},
+                               {"work", {{"primary", work_json(r.work.total(RayKind::primary))},
+                                         {"shadow", work_json(r.work.total(RayKind::shadow))}}},
+                               {"objects", per_object}});
+    std::printf("frame %4d  %.3f s  %llu rays (%llu primary, %llu shadow)  %.3g M triangle tests  -> %s\n", f,
+                wall, (unsigned long long)rays, (unsigned long long)r.work.rays[0],
+                (unsigned long long)r.work.rays[1], r.work.total().tri_tests() / 1e6, exr.c_str());
+    std::fflush(stdout);
+  }
+  write_atomically((std::filesystem::path(o.out) / "reference.json").string(), [&](const std::string& tmp) {
+    std::ofstream out(tmp);
+    out << stats.dump(1) << "\n";
+    if (!out) throw std::runtime_error("cannot write " + tmp);
+  });
+  return 0;
+}
+
+}  // namespace
+
+int run_reference(const CommonOptions& o) {
+  const Scene scene = load_scene(o.scene);
+  return o.precision == "double" ? reference<double>(o, scene) : reference<float>(o, scene);
+}
+
+}  // namespace oprt
