@@ -70,11 +70,22 @@ struct Mesh {
   void append(const Mesh& other, const Affine<double>& placed = Affine<double>::identity());
 };
 
+// Non-rigid geometry (BART's per-vertex animated triangles, `tpa`): vertex positions in the
+// object's local frame that change with the frame. The engine re-bounds such an object
+// every frame and rewrites its triangles in object memory (the transfer is charged).
+class VertexMotion {
+ public:
+  virtual ~VertexMotion() = default;
+  // Every vertex of the object's mesh at `frame`: same count and order as Mesh::vertices.
+  virtual void at(double frame, std::vector<Vec3d>& vertices) const = 0;
+};
+
 struct Object {
   std::string name;
   std::uint32_t material = 0;
-  Mesh mesh;  // local coordinates
+  Mesh mesh;  // local coordinates (for a deforming object: its frame-0 shape)
   MotionPtr motion;
+  std::shared_ptr<const VertexMotion> deform;  // null for a rigid object
 };
 
 struct Scene {
