@@ -40,14 +40,17 @@ struct BlockHit {
 };
 
 // Nearest hit over triangles [first, end); adds each test's exit stage to stages[] and the
-// accepted tests to *hits. Among equal t the first (lowest index) wins.
+// accepted tests to *hits; if `log` is given, writes each test's exit stage to log[k - first]
+// (the memory model needs the order). Among equal t the first (lowest index) wins.
 template <typename T>
 inline BlockHit<T> nearest_in_block(const MollerSoA<T>& soa, std::uint32_t first, std::uint32_t end,
-                                    const Ray<T>& ray, std::uint64_t* stages, std::uint64_t* hits) {
+                                    const Ray<T>& ray, std::uint64_t* stages, std::uint64_t* hits,
+                                    std::uint8_t* log = nullptr) {
   BlockHit<T> best;
   for (std::uint32_t k = first; k < end; ++k) {
     const TriangleHit<T> h = intersect_moller(ray, soa[k]);
     ++stages[static_cast<int>(h.stage)];
+    if (log) log[k - first] = static_cast<std::uint8_t>(h.stage);
     if (h.hit) {
       ++*hits;
       if (h.t < best.t) best = {h.t, k, h.u, h.v};
@@ -59,10 +62,11 @@ inline BlockHit<T> nearest_in_block(const MollerSoA<T>& soa, std::uint32_t first
 // First hit over [first, end) in order; stops there. Returns whether there was one.
 template <typename T>
 inline bool any_in_block(const MollerSoA<T>& soa, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
-                         std::uint64_t* stages, std::uint64_t* hits) {
+                         std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log = nullptr) {
   for (std::uint32_t k = first; k < end; ++k) {
     const TriangleHit<T> h = intersect_moller(ray, soa[k]);
     ++stages[static_cast<int>(h.stage)];
+    if (log) log[k - first] = static_cast<std::uint8_t>(h.stage);
     if (h.hit) {
       ++*hits;
       return true;

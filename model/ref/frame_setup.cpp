@@ -6,15 +6,28 @@
 
 namespace oprt {
 
+std::vector<Affine<double>> object_matrices(const Scene& scene, int frame) {
+  std::vector<Affine<double>> m;
+  m.reserve(scene.objects.size());
+  for (const Object& o : scene.objects) m.push_back(o.motion->at(frame));
+  return m;
+}
+
 template <typename T>
 FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int frame) {
+  return setup_frame(scene, g, frame, object_matrices(scene, frame), scene.camera->at(frame));
+}
+
+template <typename T>
+FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int frame,
+                          const std::vector<Affine<double>>& to_world, const Camera& camera) {
   FrameSetup<T> f;
   f.frame = frame;
-  f.camera = scene.camera->at(frame);
+  f.camera = camera;
   f.placement.reserve(scene.objects.size());
   f.to_local.reserve(scene.objects.size());
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
-    const Affine<double> m = scene.objects[o].motion->at(frame);
+    const Affine<double>& m = to_world.at(o);
     auto p = make_placement(m);
     if (!p)
       throw InputError(scene.source, "object " + std::to_string(o) + " (\"" + scene.objects[o].name +
@@ -52,5 +65,9 @@ FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int fra
 
 template FrameSetup<float> setup_frame(const Scene&, const SceneGeometry<float>&, int);
 template FrameSetup<double> setup_frame(const Scene&, const SceneGeometry<double>&, int);
+template FrameSetup<float> setup_frame(const Scene&, const SceneGeometry<float>&, int,
+                                       const std::vector<Affine<double>>&, const Camera&);
+template FrameSetup<double> setup_frame(const Scene&, const SceneGeometry<double>&, int,
+                                        const std::vector<Affine<double>>&, const Camera&);
 
 }  // namespace oprt

@@ -20,8 +20,19 @@ struct FrameSetup {
 // Throws InputError if an object's matrix at this frame is not invertible.
 template <typename T>
 FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int frame);
+// The same from matrices and camera already evaluated (what the GPP receives from the host).
+template <typename T>
+FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int frame,
+                          const std::vector<Affine<double>>& to_world, const Camera& camera);
+
+// Every object's local -> world matrix at a frame.
+std::vector<Affine<double>> object_matrices(const Scene& scene, int frame);
 
 extern template FrameSetup<float> setup_frame(const Scene&, const SceneGeometry<float>&, int);
 extern template FrameSetup<double> setup_frame(const Scene&, const SceneGeometry<double>&, int);
+extern template FrameSetup<float> setup_frame(const Scene&, const SceneGeometry<float>&, int,
+                                              const std::vector<Affine<double>>&, const Camera&);
+extern template FrameSetup<double> setup_frame(const Scene&, const SceneGeometry<double>&, int,
+                                               const std::vector<Affine<double>>&, const Camera&);
 
 }  // namespace oprt

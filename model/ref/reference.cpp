@@ -25,10 +25,12 @@ FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int 
   const Shader<T> shader(scene, f);
   std::vector<std::uint32_t> all(g.sphere_count());
   std::iota(all.begin(), all.end(), 0u);
+  IuRegisters<T> regs;
+  regs.load(f, g, all);
 
   FrameResult out{FrameImage(width, height), FrameWork(g.sphere_count())};
-  WorkCounts* primary_work = out.work.per_sphere[0].data();
-  WorkCounts* shadow_work = out.work.per_sphere[1].data();
+  const AccumulateWork primary_work{out.work.per_sphere[0].data()};
+  const AccumulateWork shadow_work{out.work.per_sphere[1].data()};
   std::vector<Ray<T>> shadow;
   std::vector<std::uint8_t> occluded;
   for (int y = 0; y < height; ++y) {
@@ -36,7 +38,7 @@ FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int 
       const std::size_t i = static_cast<std::size_t>(y) * width + x;
       const Ray<T> ray = camera.ray<T>(x, y);
       ++out.work.rays[0];
-      const HitRecord<T> hit = trace_nearest(g, f, all.data(), all.size(), ray, primary_work);
+      const HitRecord<T> hit = trace_nearest(g, regs, ray, primary_work);
       Vec3d color = shader.background();
       if (hit.valid()) {
         shadow.clear();
@@ -44,7 +46,7 @@ FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int 
         occluded.assign(shadow.size(), 0);
         for (std::size_t k = 0; k < shadow.size(); ++k) {
           ++out.work.rays[1];
-          occluded[k] = trace_any(g, f, all.data(), all.size(), shadow[k], shadow_work);
+          occluded[k] = trace_any(g, regs, shadow[k], shadow_work);
         }
         color = shader.finish(state, occluded.data());
         out.image.z[i] = static_cast<float>(hit.t);

@@ -1,10 +1,14 @@
-// The work of one intersection unit on one ray, as a pure function: test the ray against
-// each of the unit's spheres in order; on a hit carry the ray into the sphere's local frame
-// and test the sphere's triangles. The reference renderer calls it with every sphere (one
-// unit holding the whole scene); the timed model's IUs and the analytic level call it with
-// the spheres assigned to each unit. Images agree by construction: the nearest hit is
-// chosen by (t, object, primitive), a total order that does not depend on which unit found
-// it or in which order.
+// The work of one intersection unit on one ray, as a pure function of what the unit holds:
+// its configuration registers (the spheres assigned to it, with their world spheres and
+// world -> local matrices, written by the GPP each frame) and its object memory (the
+// spheres' triangles). Test the ray against each sphere in register order; on a hit carry
+// the ray into the sphere's local frame and test the sphere's triangles.
+//
+// The reference renderer calls it with one register file holding every sphere; the timed
+// model's IUs and the analytic level with each unit's own. Images agree by construction:
+// the nearest hit is chosen by (t, object, primitive), a total order that does not depend
+// on which unit found it or in which order. Each sphere visit is reported to a visitor with
+// its work, so every caller charges the same counts.
 #pragma once
 
 #include "ref/frame_setup.h"
@@ -31,45 +35,101 @@ inline bool closer(const HitRecord<T>& a, const HitRecord<T>& b) {
   return a.prim < b.prim;
 }
 
-// Nearest hit over spheres[0..n). `work` is indexed by sphere id.
-// Every triangle of an entered sphere is tested against the ray's own tmax, never against
-// the nearest hit so far: the exit stage of a (ray, triangle) pair, and so its cost, is
-// then the same in every unit and in every order (see geom/triangle.h).
+// One unit's configuration registers for a frame.
 template <typename T>
-HitRecord<T> trace_nearest(const SceneGeometry<T>& g, const FrameSetup<T>& f,
-                           const std::uint32_t* spheres, std::size_t n, const Ray<T>& ray,
-                           WorkCounts* work) {
+struct IuRegisters {
+  std::vector<std::uint32_t> sphere;  // global sphere ids, in the unit's test order
+  std::vector<Sphere<T>> world;       // per entry: world bounding sphere
+  std::vector<Affine<T>> to_local;    // per entry: world -> local of its object
+
+  std::size_t size() const { return sphere.size(); }
+  void load(const FrameSetup<T>& f, const SceneGeometry<T>& g, const std::vector<std::uint32_t>& spheres) {
+    sphere = spheres;
+    world.clear();
+    to_local.clear();
+    for (std::uint32_t s : spheres) {
+      world.push_back(f.world_sphere[s]);
+      to_local.push_back(f.to_local[g.object[s]]);
+    }
+  }
+};
+
+// What one sphere visit cost: one sphere test, and if it hit, one transform and the tests
+// of the sphere's triangles (all of them for a nearest-hit ray; up to the first occluder for
+// a shadow ray), in memory order: work.tri_tests() triangles streamed from object memory.
+struct SphereVisit {
+  std::uint32_t entry;   // position in the unit's registers
+  std::uint32_t sphere;  // global sphere id
+  WorkCounts work;
+  const std::uint8_t* stages = nullptr;  // per tested triangle its exit stage, if logged
+};
+
+// Scratch for logging exit stages in memory order (the memory model's input); pass nullptr
+// to trace_* when the memory is ideal.
+using StageLog = std::vector<std::uint8_t>;
+
+// Nearest hit over the unit's spheres. Every triangle of an entered sphere is tested
+// against the ray's own tmax, never against the nearest hit so far: the exit stage of a
+// (ray, triangle) pair, and so its cost, is then the same in every unit and in every order
+// (see geom/triangle.h). visit(const SphereVisit&) is called once per sphere tested.
+template <typename T, typename Visit>
+HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray,
+                           Visit&& visit, StageLog* log = nullptr) {
   HitRecord<T> best;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t s = spheres[i];
-    WorkCounts& w = work[s];
-    ++w.sphere_tests;
-    if (!hit_sphere(ray, f.world_sphere[s])) continue;
-    ++w.transforms;
-    const std::uint32_t obj = g.object[s];
-    const Ray<T> local = f.to_local[obj].ray(ray);
-    const BlockHit<T> h = nearest_in_block(g.tris, g.first[s], g.first[s + 1], local, w.tri_stage, &w.tri_hits);
-    if (!h.valid()) continue;
-    const HitRecord<T> c{h.t, obj, g.prim[h.index], s, h.u, h.v};
-    if (closer(c, best)) best = c;
+  for (std::uint32_t i = 0; i < regs.size(); ++i) {
+    SphereVisit v{i, regs.sphere[i], {}};
+    v.work.sphere_tests = 1;
+    if (hit_sphere(ray, regs.world[i])) {
+      v.work.transforms = 1;
+      const std::uint32_t s = v.sphere;
+      const Ray<T> local = regs.to_local[i].ray(ray);
+      std::uint8_t* l = nullptr;
+      if (log) {
+        log->resize(mem.triangles_in(s));
+        v.stages = l = log->data();
+      }
+      const BlockHit<T> h =
+          nearest_in_block(mem.tris, mem.first[s], mem.first[s + 1], local, v.work.tri_stage, &v.work.tri_hits, l);
+      if (h.valid()) {
+        const HitRecord<T> c{h.t, mem.object[s], mem.prim[h.index], s, h.u, h.v};
+        if (closer(c, best)) best = c;
+      }
+    }
+    visit(v);
   }
   return best;
 }
 
-// Any hit in (0, tmax) over spheres[0..n): the unit stops at its first occluder.
-template <typename T>
-bool trace_any(const SceneGeometry<T>& g, const FrameSetup<T>& f, const std::uint32_t* spheres,
-               std::size_t n, const Ray<T>& ray, WorkCounts* work) {
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t s = spheres[i];
-    WorkCounts& w = work[s];
-    ++w.sphere_tests;
-    if (!hit_sphere(ray, f.world_sphere[s])) continue;
-    ++w.transforms;
-    const Ray<T> local = f.to_local[g.object[s]].ray(ray);
-    if (any_in_block(g.tris, g.first[s], g.first[s + 1], local, w.tri_stage, &w.tri_hits)) return true;
+// Any hit in (0, tmax) over the unit's spheres: the unit stops at its first occluder.
+template <typename T, typename Visit>
+bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray, Visit&& visit,
+               StageLog* log = nullptr) {
+  for (std::uint32_t i = 0; i < regs.size(); ++i) {
+    SphereVisit v{i, regs.sphere[i], {}};
+    v.work.sphere_tests = 1;
+    bool occluded = false;
+    if (hit_sphere(ray, regs.world[i])) {
+      v.work.transforms = 1;
+      const std::uint32_t s = v.sphere;
+      const Ray<T> local = regs.to_local[i].ray(ray);
+      std::uint8_t* l = nullptr;
+      if (log) {
+        log->resize(mem.triangles_in(s));
+        v.stages = l = log->data();
+      }
+      occluded = any_in_block(mem.tris, mem.first[s], mem.first[s + 1], local, v.work.tri_stage,
+                              &v.work.tri_hits, l);
+    }
+    visit(v);
+    if (occluded) return true;
   }
   return false;
 }
+
+// A visitor that adds each visit's work to a per-sphere table.
+struct AccumulateWork {
+  WorkCounts* per_sphere;
+  void operator()(const SphereVisit& v) const { per_sphere[v.sphere] += v.work; }
+};
 
 }  // namespace oprt

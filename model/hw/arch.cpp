@@ -1,0 +1,129 @@
+#include "hw/arch.h"
+
+#include "scene/json_in.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+
+namespace oprt {
+
+const char* to_string(Level l) { return l == Level::at ? "at" : l == Level::lt ? "lt" : "analytic"; }
+const char* to_string(BusModel b) { return b == BusModel::ideal ? "ideal" : "shared"; }
+const char* to_string(MemoryModel m) { return m == MemoryModel::ideal ? "ideal" : "latency"; }
+
+double parse_time_ns(const std::string& text, const std::string& what) {
+  const char* s = text.c_str();
+  char* end = nullptr;
+  const double v = std::strtod(s, &end);
+  if (end == s || !std::isfinite(v) || v <= 0) throw InputError(what, text, "expected a positive time such as \"10 ns\" or \"1us\"");
+  std::string unit(end);
+  unit.erase(0, unit.find_first_not_of(' '));
+  double scale;
+  if (unit == "ps") scale = 1e-3;
+  else if (unit == "ns") scale = 1;
+  else if (unit == "us") scale = 1e3;
+  else if (unit == "ms") scale = 1e6;
+  else if (unit == "s") scale = 1e9;
+  else throw InputError(what, text, "unknown time unit \"" + unit + "\" (expected ps, ns, us, ms or s)");
+  return v * scale;
+}
+
+namespace {
+template <typename E>
+E choose(const JsonIn& j, std::initializer_list<std::pair<const char*, E>> options) {
+  const std::string v = j.string();
+  std::string list;
+  for (const auto& [name, e] : options) {
+    if (v == name) return e;
+    list += std::string(list.empty() ? "" : ", ") + name;
+  }
+  j.fail("unknown value \"" + v + "\" (expected one of: " + list + ")");
+}
+std::string one_of(const JsonIn& j, std::initializer_list<const char*> options) {
+  const std::string v = j.string();
+  std::string list;
+  for (const char* o : options) {
+    if (v == o) return v;
+    list += std::string(list.empty() ? "" : ", ") + o;
+  }
+  j.fail("unknown value \"" + v + "\" (expected one of: " + list + ")");
+}
+int cycles(const JsonIn& j) { return static_cast<int>(j.integer(0, 1000000)); }
+}  // namespace
+
+Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
+  const JsonIn root(doc, file);
+  root.only_keys({"format", "comment", "clock_mhz", "ius", "costs", "ray_fifo_depth", "bus", "memory", "gpp",
+                  "level", "quantum", "balance", "subdivide", "accel", "kernel", "precision"});
+  const std::string format = root.at("format").string();
+  if (format != "oprt-arch/1") root.at("format").fail("unsupported format \"" + format + "\" (expected oprt-arch/1)");
+  Arch a;
+  a.source = file;
+  a.clock_mhz = root.number_or("clock_mhz", a.clock_mhz, 1e-3, 1e6);
+  a.ius = static_cast<int>(root.integer_or("ius", a.ius, 1, 65536));
+  if (auto c = root.find("costs")) {
+    c->only_keys({"sphere", "transform", "triangle"});
+    if (auto v = c->find("sphere")) a.costs.sphere = cycles(*v);
+    if (auto v = c->find("transform")) a.costs.transform = cycles(*v);
+    if (auto v = c->find("triangle")) {
+      auto items = v->items();
+      if (items.size() != kTriStages)
+        v->fail("expected " + std::to_string(kTriStages) + " cycle counts (exit stages det, u, v, t), found " +
+                std::to_string(items.size()));
+      for (int k = 0; k < kTriStages; ++k) a.costs.tri_stage[k] = cycles(items[k]);
+    }
+  }
+  a.fifo_depth = static_cast<int>(root.integer_or("ray_fifo_depth", a.fifo_depth, 0, 1 << 24));
+  if (auto b = root.find("bus")) {
+    b->only_keys({"model", "bytes_per_cycle", "arbitration_cycles"});
+    a.bus.model = choose<BusModel>(b->at("model"), {{"ideal", BusModel::ideal}, {"shared", BusModel::shared}});
+    a.bus.bytes_per_cycle = static_cast<int>(b->integer_or("bytes_per_cycle", a.bus.bytes_per_cycle, 1, 1 << 20));
+    a.bus.arbitration_cycles = static_cast<int>(b->integer_or("arbitration_cycles", a.bus.arbitration_cycles, 0, 1 << 20));
+  }
+  if (auto m = root.find("memory")) {
+    m->only_keys({"model", "latency_cycles", "bytes_per_cycle"});
+    a.memory.model = choose<MemoryModel>(m->at("model"), {{"ideal", MemoryModel::ideal}, {"latency", MemoryModel::latency}});
+    a.memory.latency_cycles = static_cast<int>(m->integer_or("latency_cycles", a.memory.latency_cycles, 0, 1 << 20));
+    a.memory.bytes_per_cycle = static_cast<int>(m->integer_or("bytes_per_cycle", a.memory.bytes_per_cycle, 1, 1 << 20));
+  }
+  if (auto g = root.find("gpp")) {
+    g->only_keys({"cycles_per_ray", "cycles_per_hit"});
+    a.gpp.cycles_per_ray = static_cast<int>(g->integer_or("cycles_per_ray", 0, 0, 1 << 20));
+    a.gpp.cycles_per_hit = static_cast<int>(g->integer_or("cycles_per_hit", 0, 0, 1 << 20));
+  }
+  if (auto v = root.find("level"))
+    a.level = choose<Level>(*v, {{"at", Level::at}, {"lt", Level::lt}, {"analytic", Level::analytic}});
+  if (auto v = root.find("quantum")) a.quantum_ns = parse_time_ns(v->string(), file + ": /quantum");
+  if (auto v = root.find("balance")) a.balance = one_of(*v, {"paper", "round_robin", "sa_n", "feedback", "view"});
+  a.subdivide = static_cast<int>(root.integer_or("subdivide", a.subdivide, 1, 4096));
+  if (auto v = root.find("accel")) a.accel = one_of(*v, {"brute", "bvh"});
+  if (auto v = root.find("kernel")) a.kernel = one_of(*v, {"moller", "watertight"});
+  if (auto v = root.find("precision")) a.precision = one_of(*v, {"float", "double"});
+  return a;
+}
+
+Arch load_arch(const std::string& path) { return arch_from_json(JsonIn::parse_file(path), path); }
+
+nlohmann::json to_json(const Arch& a) {
+  return {{"source", a.source},
+          {"clock_mhz", a.clock_mhz},
+          {"ius", a.ius},
+          {"costs", {{"sphere", a.costs.sphere}, {"transform", a.costs.transform},
+                     {"triangle", {a.costs.tri_stage[0], a.costs.tri_stage[1], a.costs.tri_stage[2], a.costs.tri_stage[3]}}}},
+          {"ray_fifo_depth", a.fifo_depth},
+          {"bus", {{"model", to_string(a.bus.model)}, {"bytes_per_cycle", a.bus.bytes_per_cycle},
+                   {"arbitration_cycles", a.bus.arbitration_cycles}}},
+          {"memory", {{"model", to_string(a.memory.model)}, {"latency_cycles", a.memory.latency_cycles},
+                      {"bytes_per_cycle", a.memory.bytes_per_cycle}}},
+          {"gpp", {{"cycles_per_ray", a.gpp.cycles_per_ray}, {"cycles_per_hit", a.gpp.cycles_per_hit}}},
+          {"level", to_string(a.level)},
+          {"quantum_ns", a.quantum_ns},
+          {"balance", a.balance},
+          {"subdivide", a.subdivide},
+          {"accel", a.accel},
+          {"kernel", a.kernel},
+          {"precision", a.precision}};
+}
+
+}  // namespace oprt

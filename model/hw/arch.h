@@ -1,0 +1,66 @@
+// The architecture being modelled: clock, number of intersection units, cycle costs, ray
+// FIFO depth, bus, object memory and GPP costs, plus the run options an exploration varies
+// (level, quantum, balance policy, subdivision, acceleration, kernel, precision). Read from
+// an `oprt-arch/1` JSON file (docs/architecture-format.md); command-line flags override the
+// file, the file overrides these defaults, which are the paper's ideal assumptions.
+#pragma once
+
+#include "hw/cycle_costs.h"
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace oprt {
+
+enum class BusModel { ideal, shared };
+enum class MemoryModel { ideal, latency };
+enum class Level { at, lt, analytic };
+
+struct Arch {
+  std::string source = "built-in defaults";
+  double clock_mhz = 100;
+  int ius = 32;
+  CycleCosts costs;
+  int fifo_depth = 0;  // rays per IU ray FIFO; 0 = unbounded
+  struct {
+    BusModel model = BusModel::ideal;
+    int bytes_per_cycle = 8;
+    int arbitration_cycles = 1;
+  } bus;
+  struct {
+    MemoryModel model = MemoryModel::ideal;
+    int latency_cycles = 10;
+    int bytes_per_cycle = 16;
+  } memory;
+  struct {
+    int cycles_per_ray = 0;  // generating a ray (primary or shadow)
+    int cycles_per_hit = 0;  // shading a primary ray's result
+  } gpp;
+
+  // Run options.
+  Level level = Level::at;
+  double quantum_ns = 1000;
+  std::string balance = "paper";
+  int subdivide = 1;
+  std::string accel = "brute";
+  std::string kernel = "moller";
+  std::string precision = "float";
+
+  double cycle_ns() const { return 1000.0 / clock_mhz; }
+};
+
+// Throws InputError (file, JSON path, problem) on any unknown key or impossible value.
+Arch load_arch(const std::string& path);
+Arch arch_from_json(const nlohmann::json& doc, const std::string& file);
+nlohmann::json to_json(const Arch& a);
+
+// "10 ns", "1us", "100 us", "2.5 ms" -> nanoseconds. Throws InputError naming `what`.
+double parse_time_ns(const std::string& text, const std::string& what);
+
+const char* to_string(Level l);
+const char* to_string(BusModel b);
+const char* to_string(MemoryModel m);
+
+}  // namespace oprt

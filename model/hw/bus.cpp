@@ -1,0 +1,81 @@
+#include "hw/bus.h"
+
+namespace oprt::hw {
+
+using namespace sc_core;
+
+Bus::Bus(const sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter* vcd)
+    : sc_module(name),
+      in("in"),
+      out("out"),
+      shared_(arch.bus.model == BusModel::shared),
+      decoupled_(decoupled),
+      bytes_per_cycle_(arch.bus.bytes_per_cycle),
+      arbitration_cycles_(arch.bus.arbitration_cycles),
+      cycle_(arch.cycle_ns(), SC_NS),
+      vcd_(vcd) {
+  in.register_b_transport(this, &Bus::b_transport);
+  if (vcd_) vcd_busy_ = vcd_->add(this->name(), "busy", 1);
+}
+
+void Bus::map(std::uint64_t base, std::uint64_t size, std::vector<int> targets) {
+  regions_.push_back({base, size, std::move(targets)});
+}
+
+sc_time Bus::reserve(const sc_time& request, const sc_time& length) {
+  // Forget intervals that ended before now: no request can be for an earlier time.
+  const sc_time now = sc_time_stamp();
+  while (!granted_.empty() && granted_.begin()->second <= now) granted_.erase(granted_.begin());
+  sc_time start = request;
+  auto it = granted_.upper_bound(start);
+  if (it != granted_.begin()) {
+    auto prev = std::prev(it);
+    if (prev->second > start) start = prev->second;
+  }
+  // Slide forward past every interval that overlaps [start, start + length).
+  for (; it != granted_.end() && it->first < start + length; ++it) start = std::max(start, it->second);
+  granted_.emplace(start, start + length);
+  if (vcd_) {
+    vcd_->change(vcd_busy_, start.value(), 1);
+    vcd_->change(vcd_busy_, (start + length).value(), 0);
+  }
+  return start + length;
+}
+
+void Bus::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
+  const std::uint64_t a = p.get_address();
+  const Region* r = nullptr;
+  for (const Region& reg : regions_)
+    if (a >= reg.base && a - reg.base < reg.size) {
+      r = &reg;
+      break;
+    }
+  if (!r) {
+    p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
+    return;
+  }
+  ++transfers_;
+  bytes_ += p.get_data_length();
+  if (shared_) {
+    const std::uint64_t cycles =
+        arbitration_cycles_ + (p.get_data_length() + bytes_per_cycle_ - 1) / bytes_per_cycle_;
+    busy_cycles_ += cycles;
+    const sc_time end = reserve(sc_time_stamp() + delay, cycle_ * static_cast<double>(cycles));
+    if (decoupled_) {
+      delay = end - sc_time_stamp();
+    } else {
+      wait(end - sc_time_stamp());  // until the transfer completes
+      delay = SC_ZERO_TIME;
+    }
+  }
+  p.set_address(a - r->base);
+  p.set_response_status(tlm::TLM_OK_RESPONSE);
+  for (int t : r->targets) {
+    sc_time d = delay;
+    out[t]->b_transport(p, d);
+    if (p.get_response_status() != tlm::TLM_OK_RESPONSE) break;
+  }
+  p.set_address(a);
+}
+
+}  // namespace oprt::hw

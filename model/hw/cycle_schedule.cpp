@@ -1,0 +1,155 @@
+#include "hw/cycle_schedule.h"
+
+#include <algorithm>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace oprt {
+
+Schedule list_schedule(const OpGraph& g) {
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < g.ops.size(); ++i) {
+    if (!index.emplace(g.ops[i].name, i).second)
+      throw std::logic_error(g.name + ": duplicate op " + g.ops[i].name);
+  }
+  for (const Op& op : g.ops)
+    for (const auto& in : op.in)
+      if (!index.count(in)) throw std::logic_error(g.name + ": " + op.name + " reads unknown " + in);
+
+  Schedule s;
+  s.graph = &g;
+  s.cycle.assign(g.ops.size(), 0);
+  std::size_t left = g.ops.size();
+  for (int cycle = 1; left > 0; ++cycle) {
+    if (cycle > 10000) throw std::logic_error(g.name + ": dependency cycle");
+    for (Fu fu : {Fu::adder, Fu::multiplier}) {
+      for (std::size_t i = 0; i < g.ops.size(); ++i) {
+        const Op& op = g.ops[i];
+        if (op.fu != fu || s.cycle[i]) continue;
+        const bool ready = std::all_of(op.in.begin(), op.in.end(), [&](const std::string& in) {
+          const int c = s.cycle[index[in]];
+          return c != 0 && c < cycle;  // results are available the cycle after
+        });
+        if (!ready) continue;
+        s.cycle[i] = cycle;
+        --left;
+        break;
+      }
+    }
+  }
+  s.exit_cycle.assign(g.stages.size(), 0);
+  for (std::size_t i = 0; i < g.ops.size(); ++i)
+    if (g.ops[i].exit_stage >= 0)
+      s.exit_cycle.at(g.ops[i].exit_stage) = std::max(s.exit_cycle[g.ops[i].exit_stage], s.cycle[i]);
+  for (std::size_t k = 0; k < s.exit_cycle.size(); ++k)
+    if (!s.exit_cycle[k]) throw std::logic_error(g.name + ": stage " + g.stages[k] + " has no exit op");
+  return s;
+}
+
+std::string Schedule::table() const {
+  std::ostringstream out;
+  const int n = *std::max_element(cycle.begin(), cycle.end());
+  out << graph->name << "\n  cycle  adder            multiplier       exit\n";
+  for (int c = 1; c <= n; ++c) {
+    std::string add = "-", mul = "-", exits;
+    for (std::size_t i = 0; i < cycle.size(); ++i) {
+      if (cycle[i] != c) continue;
+      (graph->ops[i].fu == Fu::adder ? add : mul) = graph->ops[i].name;
+    }
+    for (std::size_t k = 0; k < exit_cycle.size(); ++k)
+      if (exit_cycle[k] == c) exits += (exits.empty() ? "" : ", ") + graph->stages[k];
+    char row[128];
+    std::snprintf(row, sizeof row, "  %5d  %-16s %-16s %s\n", c, add.c_str(), mul.c_str(), exits.c_str());
+    out << row;
+  }
+  return out.str();
+}
+
+namespace {
+Op add(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::adder, std::move(in), exit}; }
+Op mul(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::multiplier, std::move(in), exit}; }
+}  // namespace
+
+// L = c - o, tca = L.d, hit if (L.L - r^2) - tca^2 <= 0 (r^2 folded in early; the final
+// sign is free). 9 adds and 7 multiplies: 10 cycles, the best any schedule of this graph
+// achieves (exhaustive search); the paper's Table 1 states 9.
+const OpGraph& sphere_textbook_graph() {
+  static const OpGraph g{"sphere test (textbook, paper Table 1 form)", {"done"}, {
+      add("Lx"), add("Ly"), add("Lz"),
+      mul("Lx*dx", {"Lx"}), mul("Ly*dy", {"Ly"}), mul("Lz*dz", {"Lz"}),
+      mul("Lx*Lx", {"Lx"}), mul("Ly*Ly", {"Ly"}), mul("Lz*Lz", {"Lz"}),
+      add("tca'", {"Lx*dx", "Ly*dy"}), add("tca", {"tca'", "Lz*dz"}), mul("tca^2", {"tca"}),
+      add("LL'", {"Lx*Lx", "Ly*Ly"}), add("LL", {"LL'", "Lz*Lz"}), add("LL-r2", {"LL"}),
+      add("LL-r2-tca2", {"LL-r2", "tca^2"}, 0)}};
+  return g;
+}
+
+// f = o - c, b = f.d, l = f - b d, hit if (l.l - r^2) <= 0 and (b <= 0 or the origin is
+// inside: |f|^2 = |l|^2 + b^2 <= r^2, no cancellation since both terms are positive).
+const OpGraph& sphere_stable_graph() {
+  static const OpGraph g{"sphere test (stable, Ray Tracing Gems ch. 7)", {"done"}, {
+      add("fx"), add("fy"), add("fz"),
+      mul("fx*dx", {"fx"}), mul("fy*dy", {"fy"}), mul("fz*dz", {"fz"}),
+      add("b'", {"fx*dx", "fy*dy"}), add("b", {"b'", "fz*dz"}),
+      mul("b*dx", {"b"}), mul("b*dy", {"b"}), mul("b*dz", {"b"}),
+      add("lx", {"fx", "b*dx"}), add("ly", {"fy", "b*dy"}), add("lz", {"fz", "b*dz"}),
+      mul("lx*lx", {"lx"}), mul("ly*ly", {"ly"}), mul("lz*lz", {"lz"}), mul("b*b", {"b"}),
+      add("ll'", {"lx*lx", "ly*ly"}), add("ll'-r2", {"ll'"}), add("ll-r2", {"ll'-r2", "lz*lz"}, 0),
+      add("ll-r2+b2", {"ll-r2", "b*b"}, 0)}};
+  return g;
+}
+
+// o' = L o + t (3 x (3 multiplies, 3 adds)), d' = L d (3 x (3 multiplies, 2 adds)).
+const OpGraph& transform_graph() {
+  static const OpGraph g = [] {
+    OpGraph t{"ray transform into the local frame", {"done"}, {}};
+    for (const char* r : {"x", "y", "z"}) {
+      const std::string o = std::string("o'") + r;
+      t.ops.push_back(mul(o + "0"));
+      t.ops.push_back(mul(o + "1"));
+      t.ops.push_back(mul(o + "2"));
+      t.ops.push_back(add(o + "01", {o + "0", o + "1"}));
+      t.ops.push_back(add(o + "012", {o + "01", o + "2"}));
+      t.ops.push_back(add(o, {o + "012"}, 0));
+    }
+    for (const char* r : {"x", "y", "z"}) {
+      const std::string d = std::string("d'") + r;
+      t.ops.push_back(mul(d + "0"));
+      t.ops.push_back(mul(d + "1"));
+      t.ops.push_back(mul(d + "2"));
+      t.ops.push_back(add(d + "01", {d + "0", d + "1"}));
+      t.ops.push_back(add(d, {d + "01", d + "2"}, 0));
+    }
+    return t;
+  }();
+  return g;
+}
+
+// Moller-Trumbore with the stored normal n = e1 x e2 (geom/triangle.h):
+//   det = -d.n                      exit 'det' if zero (a flag: free)
+//   tv = o - v0, c = tv x d
+//   u = e2.c; exit 'u' if u < 0 (free) or det - u < 0
+//   v = -e1.c; exit 'v' if v < 0 (free) or (det - u) - v < 0
+//   t' = tv.n; then one datapath for both ray kinds: t' < tmax det (the ray's extent) and
+//   t' det_best < t'_best det (the unit's nearest hit so far, kept as a fraction so no
+//   division is needed; the GPP divides once per ray). Exit 'done'.
+const OpGraph& moller_graph() {
+  static const OpGraph g{"triangle test (Moller-Trumbore, stored normal)", {"det", "u", "v", "done"}, {
+      mul("dx*nx"), mul("dy*ny"), mul("dz*nz"), add("tvx"), add("tvy"),
+      add("det'", {"dx*nx", "dy*ny"}), add("det", {"det'", "dz*nz"}, 0), add("tvz"),
+      mul("tvy*dz", {"tvy"}), mul("tvz*dy", {"tvz"}), mul("tvz*dx", {"tvz"}),
+      mul("tvx*dz", {"tvx"}), mul("tvx*dy", {"tvx"}), mul("tvy*dx", {"tvy"}),
+      add("cx", {"tvy*dz", "tvz*dy"}), add("cy", {"tvz*dx", "tvx*dz"}), add("cz", {"tvx*dy", "tvy*dx"}),
+      mul("e2x*cx", {"cx"}), mul("e2y*cy", {"cy"}), mul("e2z*cz", {"cz"}),
+      add("u'", {"e2x*cx", "e2y*cy"}), add("u", {"u'", "e2z*cz"}), add("det-u", {"u", "det"}, 1),
+      mul("e1x*cx", {"cx"}), mul("e1y*cy", {"cy"}), mul("e1z*cz", {"cz"}),
+      add("v'", {"e1x*cx", "e1y*cy"}), add("v", {"v'", "e1z*cz"}), add("det-u-v", {"det-u", "v"}, 2),
+      mul("tvx*nx", {"tvx"}), mul("tvy*ny", {"tvy"}), mul("tvz*nz", {"tvz"}),
+      add("t''", {"tvx*nx", "tvy*ny"}), add("t'", {"t''", "tvz*nz"}),
+      mul("tmax*det", {"det"}), mul("t'best*det", {"det"}), mul("t'*detbest", {"t'"}),
+      add("tmax*det-t'", {"t'", "tmax*det"}, 3), add("nearest?", {"t'*detbest", "t'best*det"}, 3)}};
+  return g;
+}
+
+}  // namespace oprt

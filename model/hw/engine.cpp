@@ -1,0 +1,67 @@
+#include "hw/engine.h"
+
+#include <string>
+
+namespace oprt::hw {
+
+using namespace sc_core;
+
+template <typename T>
+Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
+                  std::size_t units, VcdWriter* vcd)
+    : sc_module(name), host("host") {
+  const bool decoupled = arch.level == Level::lt;
+  gpp_ = std::make_unique<Gpp<T>>("gpp", scene, geometry, arch, rays_, vcd);
+  bus_ = std::make_unique<Bus>("bus", arch, decoupled, vcd);
+  host.bind(gpp_->host);
+  gpp_->bus.bind(bus_->in);
+  bus_->out.bind(gpp_->hits);
+  bus_->map(addr::gpp_hits, addr::region_size, {0});
+  std::vector<int> every_fifo;
+  for (std::size_t i = 0; i < units; ++i) {
+    const std::string n = std::to_string(i);
+    fifos_.push_back(std::make_unique<RayFifo>(("fifo" + n).c_str(), arch.fifo_depth, vcd));
+    memories_.push_back(std::make_unique<ObjectMemory>(("memory" + n).c_str(), arch, geometry.sphere_count()));
+    units_.push_back(std::make_unique<IntersectionUnit<T>>(("iu" + n).c_str(), static_cast<int>(i), arch, geometry,
+                                                           rays_, vcd));
+    IntersectionUnit<T>& u = *units_.back();
+    u.bus.bind(bus_->in);
+    u.mem.bind(memories_.back()->read);
+    u.fifo.bind(*fifos_.back());
+    gpp_->fifos.bind(*fifos_.back());
+    bus_->out.bind(u.cfg);
+    bus_->out.bind(memories_.back()->load);
+    bus_->out.bind(fifos_.back()->in);
+    const int base = 1 + 3 * static_cast<int>(i);
+    const std::uint64_t w = addr::iu_window(static_cast<int>(i));
+    bus_->map(w + addr::iu_config, addr::iu_memory - addr::iu_config, {base});
+    bus_->map(w + addr::iu_memory, addr::iu_ray_fifo - addr::iu_memory, {base + 1});
+    bus_->map(w + addr::iu_ray_fifo, addr::iu_stride - addr::iu_ray_fifo, {base + 2});
+    every_fifo.push_back(base + 2);
+  }
+  bus_->map(addr::broadcast_rays, addr::region_size, every_fifo);
+}
+
+template <typename T>
+void Engine<T>::assign(const Assignment& a) {
+  if (a.units() != units_.size())
+    SC_REPORT_FATAL(name(), "assignment has a different number of units than the engine");
+  gpp_->set_assignment(a.unit);
+}
+
+template <typename T>
+void Engine<T>::run_frame(FrameCommand& cmd) {
+  command_.set_command(tlm::TLM_WRITE_COMMAND);
+  command_.set_address(0);
+  command_.set_data_ptr(reinterpret_cast<unsigned char*>(&cmd));
+  command_.set_data_length(static_cast<unsigned>(cmd.to_world.size() * 12 * sizeof(float)));
+  command_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+  sc_time delay = SC_ZERO_TIME;
+  host->b_transport(command_, delay);
+  if (command_.is_response_error()) SC_REPORT_FATAL(name(), "frame command failed");
+}
+
+template class Engine<float>;
+template class Engine<double>;
+
+}  // namespace oprt::hw

@@ -1,0 +1,62 @@
+// Engine: the top of the hardware model. It instantiates the GPP, the bus, and for every
+// unit the assignment uses (min(units requested, spheres)) an intersection unit with its
+// ray FIFO and object memory, and binds them; all binding happens here.
+//
+//   host --> Gpp.host
+//   Gpp.bus, IntersectionUnit[i].bus --> Bus.in
+//   Bus.out[0] --> Gpp.hits
+//   Bus.out[1 + 3i] --> IntersectionUnit[i].cfg
+//   Bus.out[2 + 3i] --> ObjectMemory[i].load
+//   Bus.out[3 + 3i] --> RayFifo[i].in              (and the broadcast region: every RayFifo)
+//   IntersectionUnit[i].mem --> ObjectMemory[i].read;  IntersectionUnit[i].fifo --> RayFifo[i]
+#pragma once
+
+#include "balance/assign.h"
+#include "hw/bus.h"
+#include "hw/gpp.h"
+#include "hw/intersection_unit.h"
+#include "hw/object_memory.h"
+#include "hw/ray_fifo.h"
+
+#include <memory>
+#include <vector>
+
+#include <systemc>
+#include <tlm_utils/simple_initiator_socket.h>
+
+namespace oprt::hw {
+
+template <typename T>
+class Engine : public sc_core::sc_module {
+ public:
+  tlm_utils::simple_initiator_socket<Engine> host;  // the testbench's frame commands go here
+
+  Engine(const sc_core::sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
+         std::size_t units, VcdWriter* vcd);
+
+  // Run one frame to completion; call from an SC_THREAD (the testbench's).
+  void run_frame(FrameCommand& cmd);
+  // Spheres per unit for the next frames (assignment.units() must equal units()).
+  void assign(const Assignment& a);
+
+  std::size_t units() const { return units_.size(); }
+  Gpp<T>& gpp() { return *gpp_; }
+  Bus& bus() { return *bus_; }
+  IntersectionUnit<T>& unit(std::size_t i) { return *units_[i]; }
+  RayFifo& fifo(std::size_t i) { return *fifos_[i]; }
+  ObjectMemory& memory(std::size_t i) { return *memories_[i]; }
+
+ private:
+  std::vector<RayRecord<T>> rays_;
+  std::unique_ptr<Gpp<T>> gpp_;
+  std::unique_ptr<Bus> bus_;
+  std::vector<std::unique_ptr<IntersectionUnit<T>>> units_;
+  std::vector<std::unique_ptr<RayFifo>> fifos_;
+  std::vector<std::unique_ptr<ObjectMemory>> memories_;
+  tlm::tlm_generic_payload command_;
+};
+
+extern template class Engine<float>;
+extern template class Engine<double>;
+
+}  // namespace oprt::hw

@@ -1,0 +1,238 @@
+#include "hw/gpp.h"
+
+#include "ref/camera.h"
+
+namespace oprt::hw {
+
+using namespace sc_core;
+
+template <typename T>
+Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
+            std::vector<RayRecord<T>>& rays, VcdWriter* vcd)
+    : sc_module(name),
+      host("host"),
+      hits("hits"),
+      bus("bus"),
+      fifos("fifos"),
+      scene_(scene),
+      geom_(geometry),
+      arch_(arch),
+      rays_(rays),
+      cycle_(arch.cycle_ns(), SC_NS),
+      clock_(arch.level == Level::lt),
+      vcd_(vcd) {
+  host.register_b_transport(this, &Gpp::host_transport);
+  hits.register_b_transport(this, &Gpp::hit_transport);
+  if (vcd_) {
+    vcd_in_flight_ = vcd_->add(this->name(), "rays_in_flight", 32);
+    vcd_frame_ = vcd_->add(this->name(), "frame", 32);
+  }
+  SC_THREAD(run);
+}
+
+template <typename T>
+void Gpp<T>::host_transport(tlm::tlm_generic_payload& p, sc_time&) {
+  command_ = reinterpret_cast<const FrameCommand*>(p.get_data_ptr());
+  request_.notify();
+  wait(done_);
+  p.set_response_status(tlm::TLM_OK_RESPONSE);
+}
+
+template <typename T>
+void Gpp<T>::run() {
+  for (;;) {
+    wait(request_);
+    clock_.resync();
+    render_frame(*command_);
+    clock_.sync();
+    done_.notify();
+  }
+}
+
+template <typename T>
+void Gpp<T>::write(std::uint64_t address, void* data, unsigned bytes) {
+  write_.set_command(tlm::TLM_WRITE_COMMAND);
+  write_.set_address(address);
+  write_.set_data_ptr(static_cast<unsigned char*>(data));
+  write_.set_data_length(bytes);
+  write_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+  sc_time delay = clock_.offset();
+  const sc_time sim = sc_time_stamp();
+  bus->b_transport(write_, delay);
+  if (write_.is_response_error()) {
+    SC_REPORT_FATAL(name(), ("bus write to 0x" + [&] {
+                               char b[32];
+                               std::snprintf(b, sizeof b, "%llx", (unsigned long long)address);
+                               return std::string(b);
+                             }() + " failed: " + write_.get_response_string()).c_str());
+  }
+  clock_.advance_to(sim + delay);
+}
+
+template <typename T>
+bool Gpp<T>::fifos_have_space() const {
+  for (int i = 0; i < fifos.size(); ++i)
+    if (!fifos[i]->has_space()) return false;
+  return true;
+}
+
+template <typename T>
+void Gpp<T>::wait_for_space_or_answers() {
+  sc_event_or_list events;
+  events |= answered_;
+  for (int i = 0; i < fifos.size(); ++i) events |= fifos[i]->freed_event();
+  clock_.sync();
+  wait(events);
+  clock_.resync();
+}
+
+template <typename T>
+void Gpp<T>::trace_in_flight() {
+  if (vcd_) vcd_->change(vcd_in_flight_, clock_.now().value(), issued_ - retired_);
+}
+
+template <typename T>
+std::uint32_t Gpp<T>::new_ray(const Ray<T>& ray, RayKind kind, std::uint32_t pixel) {
+  rays_.push_back({ray, kind, pixel, 0});
+  pending_.emplace_back();
+  completed_at_.push_back(SC_ZERO_TIME);
+  return static_cast<std::uint32_t>(rays_.size() - 1);
+}
+
+template <typename T>
+void Gpp<T>::issue(std::uint32_t id) {
+  clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_ray));
+  // Under temporal decoupling the pop that made room may lie ahead of simulation time.
+  for (int i = 0; i < fifos.size(); ++i) clock_.advance_to(fifos[i]->space_time());
+  pending_[id].answers_left = units_;
+  ++issued_;
+  ++stats_.rays[static_cast<int>(rays_[id].kind)];
+  trace_in_flight();
+  RayPacket<T> packet{id, &rays_[id]};
+  write(addr::broadcast_rays, &packet, Bytes<T>::ray);
+}
+
+template <typename T>
+void Gpp<T>::hit_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
+  const auto* a = reinterpret_cast<const AnswerPacket<T>*>(p.get_data_ptr());
+  if (p.get_command() != tlm::TLM_WRITE_COMMAND || a->ray >= pending_.size() || !pending_[a->ray].answers_left) {
+    p.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
+    return;
+  }
+  Pending& r = pending_[a->ray];
+  r.occluded = r.occluded || a->occluded;
+  if (a->hit.valid() && closer(a->hit, r.hit)) r.hit = a->hit;
+  completed_at_[a->ray] = std::max(completed_at_[a->ray], sc_time_stamp() + delay);
+  if (--r.answers_left == 0) {
+    completed_.push_back(a->ray);
+    answered_.notify();
+  }
+  p.set_response_status(tlm::TLM_OK_RESPONSE);
+}
+
+template <typename T>
+void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd, const Shader<T>& shader) {
+  clock_.advance_to(completed_at_[id]);
+  const RayRecord<T> rec = rays_[id];
+  const Pending& pr = pending_[id];
+  FrameImage& img = *cmd.image;
+  Pixel& px = pixels_[rec.pixel];
+  ++retired_;
+  auto finish = [&](const Vec3d& c) {
+    img.r[rec.pixel] = static_cast<float>(c.x);
+    img.g[rec.pixel] = static_cast<float>(c.y);
+    img.b[rec.pixel] = static_cast<float>(c.z);
+  };
+  if (rec.kind == RayKind::primary) {
+    if (!pr.hit.valid()) {
+      finish(shader.background());
+    } else {
+      clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_hit));
+      std::vector<Ray<T>> shadow;
+      px.shade = shader.prepare(rec.ray, pr.hit, shadow);
+      img.z[rec.pixel] = static_cast<float>(pr.hit.t);
+      img.object[rec.pixel] = pr.hit.object;
+      img.prim[rec.pixel] = pr.hit.prim;
+      px.shadow_left = static_cast<std::uint32_t>(shadow.size());
+      px.occluded.assign(shadow.size(), 0);
+      for (std::uint32_t k = 0; k < shadow.size(); ++k) {
+        const std::uint32_t s = new_ray(shadow[k], RayKind::shadow, rec.pixel);
+        rays_[s].slot = k;
+        shadow_queue_.push_back(s);
+      }
+      if (shadow.empty()) finish(shader.finish(px.shade, nullptr));
+    }
+  } else {
+    px.occluded[rec.slot] = pr.occluded ? 1 : 0;
+    if (--px.shadow_left == 0) finish(shader.finish(px.shade, px.occluded.data()));
+  }
+  trace_in_flight();
+}
+
+template <typename T>
+void Gpp<T>::render_frame(const FrameCommand& cmd) {
+  stats_ = GppStats{};
+  stats_.start = clock_.now();
+  if (vcd_) vcd_->change(vcd_frame_, stats_.start.value(), static_cast<std::uint64_t>(cmd.frame));
+  const FrameSetup<T> setup = setup_frame(scene_, geom_, cmd.frame, cmd.to_world, cmd.camera);
+
+  // Configuration registers: each unit's spheres, world spheres and matrices.
+  units_ = static_cast<unsigned>(assignment_.size());
+  registers_.resize(units_);
+  for (unsigned u = 0; u < units_; ++u) {
+    registers_[u].load(setup, geom_, assignment_[u]);
+    ConfigPacket<T> packet{&registers_[u]};
+    const unsigned bytes = static_cast<unsigned>(assignment_[u].size()) * Bytes<T>::sphere_config;
+    stats_.config_bytes += bytes;
+    write(addr::iu_window(static_cast<int>(u)) + addr::iu_config, &packet, bytes);
+  }
+
+  const std::size_t pixels = static_cast<std::size_t>(cmd.width) * cmd.height;
+  const std::size_t max_rays = pixels * (1 + scene_.lights.size());
+  rays_.clear();
+  rays_.reserve(max_rays);  // units read records by reference: never reallocate mid-frame
+  pending_.clear();
+  pending_.reserve(max_rays);
+  completed_at_.clear();
+  completed_at_.reserve(max_rays);
+  pixels_.assign(pixels, Pixel{});
+  completed_.clear();
+  shadow_queue_.clear();
+  issued_ = retired_ = 0;
+
+  const CameraRays camera(cmd.camera, cmd.width, cmd.height);
+  const Shader<T> shader(scene_, setup);
+  std::size_t next_pixel = 0;
+  for (;;) {
+    if (!completed_.empty()) {
+      const std::uint32_t id = completed_.front();
+      completed_.pop_front();
+      retire(id, cmd, shader);
+      continue;
+    }
+    if (!shadow_queue_.empty()) {
+      if (fifos_have_space()) {
+        const std::uint32_t id = shadow_queue_.front();
+        shadow_queue_.pop_front();
+        issue(id);
+        continue;
+      }
+    } else if (next_pixel < pixels) {
+      if (fifos_have_space()) {
+        const int x = static_cast<int>(next_pixel % cmd.width), y = static_cast<int>(next_pixel / cmd.width);
+        issue(new_ray(camera.ray<T>(x, y), RayKind::primary, static_cast<std::uint32_t>(next_pixel)));
+        ++next_pixel;
+        continue;
+      }
+    } else if (retired_ == issued_) {
+      break;
+    }
+    wait_for_space_or_answers();
+  }
+  stats_.end = clock_.now();
+}
+
+template class Gpp<float>;
+template class Gpp<double>;
+
+}  // namespace oprt::hw

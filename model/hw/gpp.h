@@ -1,0 +1,114 @@
+// Gpp: the general-purpose processor. Per frame it takes the objects' matrices from the
+// host, computes each sphere's world position and each object's world -> local matrix and
+// writes every unit's configuration registers; it generates the primary rays and writes each
+// one, broadcast, into every unit's ray FIFO; it collects every unit's answer to a ray,
+// keeps the nearest hit, shades it (Phong) and issues the shadow rays; the frame ends when
+// every ray has retired.
+//
+// It is one sequential processor: its work items are, in priority order, handling a ray
+// whose answers are all in (cycles_per_hit for a primary hit), issuing a pending shadow ray,
+// and issuing the next primary ray (cycles_per_ray each). It starts a ray write only when
+// every ray FIFO has room, so a full FIFO never holds the bus.
+#pragma once
+
+#include "hw/arch.h"
+#include "hw/local_clock.h"
+#include "hw/payloads.h"
+#include "hw/ray_fifo.h"
+#include "hw/vcd_writer.h"
+#include "ref/image.h"
+#include "ref/shading.h"
+
+#include <deque>
+#include <vector>
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_initiator_socket.h>
+#include <tlm_utils/simple_target_socket.h>
+
+namespace oprt::hw {
+
+// The host's command for one frame (the data of a write to the GPP's host socket).
+struct FrameCommand {
+  int frame = 0;
+  std::vector<Affine<double>> to_world;  // per object
+  Camera camera;
+  int width = 0, height = 0;
+  FrameImage* image = nullptr;           // filled in
+};
+
+struct GppStats {
+  std::uint64_t rays[kRayKinds] = {};
+  sc_core::sc_time start, end;           // the frame's first config write and last retirement
+  std::uint64_t config_bytes = 0;
+};
+
+template <typename T>
+class Gpp : public sc_core::sc_module {
+ public:
+  tlm_utils::simple_target_socket<Gpp> host;   // frame commands
+  tlm_utils::simple_target_socket<Gpp> hits;   // answers from the units (via the bus)
+  tlm_utils::simple_initiator_socket<Gpp> bus; // configuration writes and rays
+  sc_core::sc_port<RayFifoIf, 0> fifos;        // every ray FIFO's full flag
+
+  SC_HAS_PROCESS(Gpp);
+  Gpp(const sc_core::sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
+      std::vector<RayRecord<T>>& rays, VcdWriter* vcd);
+
+  // Spheres per unit, in the units' order; takes effect at the next frame.
+  void set_assignment(const std::vector<std::vector<std::uint32_t>>& unit_spheres) { assignment_ = unit_spheres; }
+  const GppStats& stats() const { return stats_; }
+
+ private:
+  struct Pixel {
+    ShadeState<T> shade;
+    std::uint32_t shadow_left = 0;
+    std::vector<std::uint8_t> occluded;
+  };
+  struct Pending {  // a ray waiting for answers
+    std::uint32_t answers_left = 0;
+    bool occluded = false;
+    HitRecord<T> hit;
+  };
+
+  void run();
+  void host_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
+  void hit_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
+  void render_frame(const FrameCommand& cmd);
+  void write(std::uint64_t address, void* data, unsigned bytes);
+  bool fifos_have_space() const;
+  void wait_for_space_or_answers();
+  std::uint32_t new_ray(const Ray<T>& ray, RayKind kind, std::uint32_t pixel);
+  void issue(std::uint32_t ray);
+  void retire(std::uint32_t ray, const FrameCommand& cmd, const Shader<T>& shader);
+  void trace_in_flight();
+
+  const Scene& scene_;
+  const SceneGeometry<T>& geom_;
+  const Arch& arch_;
+  std::vector<RayRecord<T>>& rays_;
+  const sc_core::sc_time cycle_;
+  std::vector<std::vector<std::uint32_t>> assignment_;
+  std::vector<IuRegisters<T>> registers_;
+  LocalClock clock_;
+  GppStats stats_;
+
+  // Frame state.
+  const FrameCommand* command_ = nullptr;
+  sc_core::sc_event request_, done_, answered_;
+  std::vector<Pending> pending_;
+  std::vector<Pixel> pixels_;
+  std::deque<std::uint32_t> completed_, shadow_queue_;
+  std::vector<sc_core::sc_time> completed_at_;  // per ray: when its last answer arrived
+  std::uint64_t issued_ = 0, retired_ = 0;
+  unsigned units_ = 0;
+  tlm::tlm_generic_payload write_;
+  VcdWriter* vcd_;
+  int vcd_in_flight_ = -1, vcd_frame_ = -1;
+};
+
+extern template class Gpp<float>;
+extern template class Gpp<double>;
+
+}  // namespace oprt::hw

@@ -1,0 +1,75 @@
+// IntersectionUnit: one adder, one multiplier and a register file (the paper's IU). It pops
+// rays from its FIFO, tests each against its spheres (registers written by the GPP each
+// frame), carries the ray into a sphere's local frame on a hit and tests that sphere's
+// triangles streamed from its object memory, then answers the GPP over the bus: the nearest
+// hit of a primary ray, or whether a shadow ray is occluded (it stops at the first
+// occluder). The functional work is traverse.h's, so the answer is the reference's.
+//
+// Timing: the cycles of a ray are known when it starts (unit_cycles.h); the unit waits them
+// out in one step (phases are only reported to the VCD, with their times), so a unit costs
+// one simulation event per ray, and none while idle.
+#pragma once
+
+#include "hw/local_clock.h"
+#include "hw/payloads.h"
+#include "hw/ray_fifo.h"
+#include "hw/unit_cycles.h"
+#include "hw/vcd_writer.h"
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_initiator_socket.h>
+#include <tlm_utils/simple_target_socket.h>
+
+namespace oprt::hw {
+
+enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primitive = 3, stall = 4 };
+
+struct UnitStats {
+  UnitCycles cycles;
+  std::uint64_t rays[kRayKinds] = {};
+  std::vector<WorkCounts> per_sphere[kRayKinds];  // indexed by global sphere id
+  sc_core::sc_time last_answer;                   // when its last answer of the frame arrived
+};
+
+template <typename T>
+class IntersectionUnit : public sc_core::sc_module {
+ public:
+  tlm_utils::simple_target_socket<IntersectionUnit> cfg;    // configuration registers (from the bus)
+  tlm_utils::simple_initiator_socket<IntersectionUnit> bus;  // answers to the GPP
+  tlm_utils::simple_initiator_socket<IntersectionUnit> mem;  // its object memory
+  sc_core::sc_port<RayFifoIf> fifo;
+
+  SC_HAS_PROCESS(IntersectionUnit);
+  IntersectionUnit(const sc_core::sc_module_name& name, int id, const Arch& arch, const SceneGeometry<T>& geometry,
+                   const std::vector<RayRecord<T>>& rays, VcdWriter* vcd);
+
+  int id() const { return id_; }
+  const IuRegisters<T>& registers() const { return regs_; }
+  UnitStats& stats() { return stats_; }
+  void reset_stats();
+
+ private:
+  void run();
+  void cfg_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
+  void read_memory(std::uint32_t sphere, std::uint32_t triangles);
+  void trace_state(UnitState s, const sc_core::sc_time& at);
+
+  const int id_;
+  const Arch& arch_;
+  const SceneGeometry<T>& geom_;
+  const std::vector<RayRecord<T>>& rays_;
+  const sc_core::sc_time cycle_;
+  IuRegisters<T> regs_;
+  UnitStats stats_;
+  LocalClock clock_;
+  StageLog log_;
+  tlm::tlm_generic_payload answer_, read_;
+  VcdWriter* vcd_;
+  int vcd_state_ = -1;
+};
+
+extern template class IntersectionUnit<float>;
+extern template class IntersectionUnit<double>;
+
+}  // namespace oprt::hw

@@ -1,0 +1,78 @@
+// What crosses the bus, and where it goes. Transactions are TLM-2.0 generic payloads whose
+// data_length is the number of bytes the hardware would move; the data pointer carries the
+// modelled contents as a typed record (the model keeps one copy where the hardware would
+// keep several: a broadcast ray's contents live once in the RayStore, each FIFO keeps its
+// id).
+#pragma once
+
+#include "ref/traverse.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace oprt::hw {
+
+// Bus address map. Each unit i owns a window at iu_base + i * iu_stride.
+namespace addr {
+constexpr std::uint64_t gpp_hits = 0x0400'0000;        // answers from the units
+constexpr std::uint64_t broadcast_rays = 0x0800'0000;  // a ray written here enters every FIFO
+constexpr std::uint64_t region_size = 0x1000;
+constexpr std::uint64_t iu_base = 0x1000'0000;
+constexpr std::uint64_t iu_stride = 0x0100'0000;
+constexpr std::uint64_t iu_config = 0x0000'0000;       // + configuration registers
+constexpr std::uint64_t iu_memory = 0x0040'0000;       // + object memory load window
+constexpr std::uint64_t iu_ray_fifo = 0x0080'0000;     // + this unit's ray FIFO only
+constexpr std::uint64_t iu_window(int unit) { return iu_base + static_cast<std::uint64_t>(unit) * iu_stride; }
+}  // namespace addr
+
+// Bytes per item as the hardware stores and moves them, in precision T.
+template <typename T>
+struct Bytes {
+  static constexpr unsigned ray = 8 + 7 * sizeof(T);                   // id, kind, o, d, tmax
+  static constexpr unsigned nearest_answer = 12 + 8 + 3 * sizeof(T);   // ray, unit, flags; object, prim; t, u, v
+  static constexpr unsigned shadow_answer = 12;                        // ray, unit, occluded
+  static constexpr unsigned sphere_config = 4 + 16 * sizeof(T);        // id, centre, radius, 3x4 matrix
+  static constexpr unsigned triangle = 12 * sizeof(T);                 // v0, e1, e2, n
+};
+
+// Rays of the frame in flight, by id. Written by the GPP; units read the ray a FIFO entry
+// names.
+template <typename T>
+struct RayRecord {
+  Ray<T> ray;
+  RayKind kind = RayKind::primary;
+  std::uint32_t pixel = 0;
+  std::uint32_t slot = 0;  // a shadow ray's index among its pixel's shadow rays
+};
+
+template <typename T>
+struct RayPacket {
+  std::uint32_t id;
+  const RayRecord<T>* record;
+};
+
+template <typename T>
+struct AnswerPacket {
+  std::uint32_t ray = 0;
+  std::uint32_t unit = 0;
+  bool occluded = false;  // shadow rays
+  HitRecord<T> hit;       // primary rays
+};
+
+template <typename T>
+struct ConfigPacket {
+  const IuRegisters<T>* registers;
+};
+
+// Object memory contents: which spheres' triangle blocks are loaded.
+struct MemoryLoadPacket {
+  std::vector<std::uint32_t> spheres;
+};
+
+// A burst read of one sphere's triangle block.
+struct MemoryReadPacket {
+  std::uint32_t sphere;
+  std::uint32_t triangles;
+};
+
+}  // namespace oprt::hw

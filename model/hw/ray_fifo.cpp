@@ -1,0 +1,53 @@
+#include "hw/ray_fifo.h"
+
+#include "hw/payloads.h"
+
+namespace oprt::hw {
+
+using namespace sc_core;
+
+RayFifo::RayFifo(const sc_module_name& name, int depth, VcdWriter* vcd)
+    : sc_module(name), in("in"), depth_(depth), pop_time_(depth > 0 ? depth : 0), vcd_(vcd) {
+  in.register_b_transport(this, &RayFifo::b_transport);
+  if (vcd_) vcd_var_ = vcd_->add(this->name(), "occupancy", 32);
+}
+
+void RayFifo::trace(const sc_time& at) {
+  if (vcd_) vcd_->change(vcd_var_, at.value(), queue_.size());
+}
+
+sc_time RayFifo::space_time() const {
+  if (depth_ == 0 || pushes_ < static_cast<std::uint64_t>(depth_)) return SC_ZERO_TIME;
+  return pop_time_[(pushes_ - depth_) % depth_];
+}
+
+void RayFifo::b_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
+  if (p.get_command() != tlm::TLM_WRITE_COMMAND) {
+    p.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
+    return;
+  }
+  // Only reachable when a writer ignores the full flag: the write then waits for room,
+  // holding whatever it holds (the bus). See the deadlock test.
+  while (!has_space()) wait(freed_);
+  const std::uint32_t id = *reinterpret_cast<const std::uint32_t*>(p.get_data_ptr());
+  const sc_time at = sc_time_stamp() + delay;
+  queue_.push_back({id, at});
+  ++pushes_;
+  if (queue_.size() > peak_) peak_ = queue_.size();
+  trace(at);
+  pushed_.notify();
+  p.set_response_status(tlm::TLM_OK_RESPONSE);
+}
+
+bool RayFifo::pop(RayEntry& e, const sc_time& at) {
+  if (queue_.empty()) return false;
+  e = queue_.front();
+  queue_.pop_front();
+  if (depth_ > 0) pop_time_[pops_ % depth_] = std::max(at, e.avail);
+  ++pops_;
+  trace(std::max(at, e.avail));
+  freed_.notify();
+  return true;
+}
+
+}  // namespace oprt::hw

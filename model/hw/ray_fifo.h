@@ -1,0 +1,65 @@
+// RayFifo: the queue of rays in front of one intersection unit. The bus writes rays into it
+// (a broadcast write enters every unit's FIFO); its unit pops them in order. Depth 0 means
+// unbounded. It reports its full/space state to the GPP (the GPP does not start a ray write
+// while any FIFO is full, so a full FIFO never holds the bus).
+#pragma once
+
+#include "hw/vcd_writer.h"
+
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_target_socket.h>
+
+namespace oprt::hw {
+
+struct RayEntry {
+  std::uint32_t ray = 0;
+  sc_core::sc_time avail;  // when the write completed: the unit cannot start it earlier
+};
+
+class RayFifoIf : public virtual sc_core::sc_interface {
+ public:
+  virtual bool pop(RayEntry& e, const sc_core::sc_time& at) = 0;  // false if empty
+  virtual const sc_core::sc_event& pushed_event() const = 0;
+  virtual bool has_space() const = 0;
+  // When the slot the next write will use was freed (under temporal decoupling the pop
+  // that freed it may lie ahead of simulation time).
+  virtual sc_core::sc_time space_time() const = 0;
+  virtual const sc_core::sc_event& freed_event() const = 0;
+  virtual std::size_t occupancy() const = 0;
+};
+
+class RayFifo : public sc_core::sc_module, public RayFifoIf {
+ public:
+  tlm_utils::simple_target_socket<RayFifo> in;
+
+  RayFifo(const sc_core::sc_module_name& name, int depth, VcdWriter* vcd);
+
+  bool pop(RayEntry& e, const sc_core::sc_time& at) override;
+  const sc_core::sc_event& pushed_event() const override { return pushed_; }
+  bool has_space() const override { return depth_ == 0 || pushes_ - pops_ < static_cast<std::uint64_t>(depth_); }
+  sc_core::sc_time space_time() const override;
+  const sc_core::sc_event& freed_event() const override { return freed_; }
+  std::size_t occupancy() const override { return queue_.size(); }
+  std::size_t peak_occupancy() const { return peak_; }
+  void reset_peak() { peak_ = queue_.size(); }
+
+ private:
+  void b_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
+  void trace(const sc_core::sc_time& at);
+
+  int depth_;
+  std::deque<RayEntry> queue_;
+  std::uint64_t pushes_ = 0, pops_ = 0;
+  std::vector<sc_core::sc_time> pop_time_;  // ring of the last `depth` pop times
+  std::size_t peak_ = 0;
+  sc_core::sc_event pushed_, freed_;
+  VcdWriter* vcd_;
+  int vcd_var_ = -1;
+};
+
+}  // namespace oprt::hw

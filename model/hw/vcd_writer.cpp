@@ -1,0 +1,99 @@
+#include "hw/vcd_writer.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace oprt {
+
+namespace {
+std::string code_for(std::size_t i) {  // VCD identifiers: printable ASCII 33..126
+  std::string s;
+  do {
+    s += static_cast<char>(33 + i % 94);
+    i /= 94;
+  } while (i);
+  return s;
+}
+}  // namespace
+
+VcdWriter::VcdWriter(std::string path) : path_(std::move(path)) {
+  const std::filesystem::path p(path_);
+  tmp_ = (p.parent_path() / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()))).string();
+}
+
+VcdWriter::~VcdWriter() {
+  if (!closed_) {  // abandoned (an error): leave no partial file behind
+    out_.close();
+    std::remove(tmp_.c_str());
+  }
+}
+
+int VcdWriter::add(const std::string& scope, const std::string& name, int width) {
+  if (started_) throw std::logic_error("VcdWriter: variable declared after the first change");
+  vars_.push_back({scope, name, code_for(vars_.size()), width});
+  return static_cast<int>(vars_.size() - 1);
+}
+
+void VcdWriter::header() {
+  out_.open(tmp_);
+  if (!out_) throw std::runtime_error("cannot write " + tmp_);
+  out_ << "$version oprt $end\n$timescale 1ps $end\n$scope module oprt $end\n";
+  std::map<std::string, std::vector<const Var*>> scopes;
+  for (const Var& v : vars_) scopes[v.scope].push_back(&v);
+  for (const auto& [scope, vs] : scopes) {
+    if (!scope.empty()) out_ << "$scope module " << scope << " $end\n";
+    for (const Var* v : vs) out_ << "$var wire " << v->width << " " << v->code << " " << v->name << " $end\n";
+    if (!scope.empty()) out_ << "$upscope $end\n";
+  }
+  out_ << "$upscope $end\n$enddefinitions $end\n";
+  started_ = true;
+}
+
+void VcdWriter::change(int var, std::uint64_t time_ps, std::uint64_t value) {
+  if (!started_) header();
+  buffer_.push_back({time_ps, seq_++, var, value});
+}
+
+void VcdWriter::write(const Change& c) {
+  Var& v = vars_[c.var];
+  if (v.last == c.value && written_time_ != ~0ULL) return;  // no change
+  if (c.time != written_time_) {
+    out_ << '#' << c.time << '\n';
+    written_time_ = c.time;
+  }
+  v.last = c.value;
+  if (v.width == 1) {
+    out_ << (c.value ? '1' : '0') << v.code << '\n';
+    return;
+  }
+  char bits[72];
+  int n = 0;
+  for (int b = v.width - 1; b >= 0; --b)
+    if (n || (c.value >> b) & 1 || b == 0) bits[n++] = ((c.value >> b) & 1) ? '1' : '0';
+  bits[n] = 0;
+  out_ << 'b' << bits << ' ' << v.code << '\n';
+}
+
+void VcdWriter::flush_before(std::uint64_t horizon) {
+  if (!started_) header();
+  std::sort(buffer_.begin(), buffer_.end(),
+            [](const Change& a, const Change& b) { return a.time != b.time ? a.time < b.time : a.seq < b.seq; });
+  std::size_t i = 0;
+  for (; i < buffer_.size() && buffer_[i].time < horizon; ++i) write(buffer_[i]);
+  buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(i));
+}
+
+void VcdWriter::close(std::uint64_t end_ps) {
+  flush_before(~0ULL);
+  if (written_time_ == ~0ULL || end_ps > written_time_) out_ << '#' << end_ps << '\n';
+  out_.close();
+  if (!out_) throw std::runtime_error("cannot write " + tmp_);
+  std::filesystem::rename(tmp_, path_);
+  closed_ = true;
+}
+
+}  // namespace oprt

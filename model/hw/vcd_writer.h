@@ -1,0 +1,42 @@
+// A VCD file for GTKWave, written from timestamped value changes. Changes may be reported
+// out of time order (a unit reports the phases of a ray when it starts it; under temporal
+// decoupling units run ahead), so they are buffered and written in time order up to a
+// horizon no process can report behind: the current simulation time, which every
+// process's local time is at or after. Plain C++ (times in picoseconds).
+#pragma once
+
+#include <cstdint>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace oprt {
+
+class VcdWriter {
+ public:
+  explicit VcdWriter(std::string path);
+  ~VcdWriter();
+
+  // Declare a variable before the first change; returns its handle.
+  int add(const std::string& scope, const std::string& name, int width);
+  void change(int var, std::uint64_t time_ps, std::uint64_t value);
+  // Write every buffered change before `horizon_ps`.
+  void flush_before(std::uint64_t horizon_ps);
+  // Write everything, end the dump at end_ps, and move the file into place.
+  void close(std::uint64_t end_ps);
+  const std::string& path() const { return path_; }
+
+ private:
+  struct Var { std::string scope, name, code; int width; std::uint64_t last = ~0ULL; };
+  struct Change { std::uint64_t time, seq; int var; std::uint64_t value; };
+  void header();
+  void write(const Change& c);
+  std::string path_, tmp_;
+  std::ofstream out_;
+  std::vector<Var> vars_;
+  std::vector<Change> buffer_;
+  std::uint64_t seq_ = 0, written_time_ = ~0ULL;
+  bool started_ = false, closed_ = false;
+};
+
+}  // namespace oprt
