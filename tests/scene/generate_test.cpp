@@ -1,4 +1,7 @@
 #include "scene/generate.h"
+#include "scene/load.h"
+
+#include <algorithm>
 
 #include <catch2/catch.hpp>
 
@@ -63,4 +66,37 @@ TEST_CASE("generators: lathe from JSON with caps; bad profile rejected", "[gener
   CHECK_THROWS_AS(generate_from_json(JsonIn(zero_r, "t.json")), InputError);
   const auto extra = JsonIn::parse_text(R"({"kind": "lathe", "profile": [[1, 0], [1, 1]], "caps": true})", "t.json");
   CHECK_THROWS_AS(generate_from_json(JsonIn(extra, "t.json")), InputError);
+}
+
+// The paper's two test scenes (Fig. 5), written by scripts/make_paper_scenes.
+TEST_CASE("paper scenes: polygons is 32 equal animated groups of 2048 triangles", "[generate][paper]") {
+  const Scene s = load_scene(std::string(OPRT_SOURCE_DIR) + "/scenes/paper_polygons.json");
+  CHECK(s.triangle_count() == 65536);
+  REQUIRE(s.objects.size() == 32);
+  for (const Object& o : s.objects) {
+    CHECK(o.mesh.triangles.size() == 2048);
+    CHECK(o.motion->animated());
+  }
+  CHECK(s.frame_count == 60);
+  CHECK(s.width == 256);
+  CHECK(s.height == 256);
+}
+
+TEST_CASE("paper scenes: room is 35108 triangles in 32 very unequal objects; a few animated", "[generate][paper]") {
+  const Scene s = load_scene(std::string(OPRT_SOURCE_DIR) + "/scenes/paper_room.json");
+  CHECK(s.triangle_count() == 35108);
+  REQUIRE(s.objects.size() == 32);
+  std::size_t lo = s.objects[0].mesh.triangles.size(), hi = lo;
+  int animated = 0;
+  for (const Object& o : s.objects) {
+    lo = std::min(lo, o.mesh.triangles.size());
+    hi = std::max(hi, o.mesh.triangles.size());
+    animated += o.motion->animated() ? 1 : 0;
+  }
+  CHECK(lo == 2);       // walls, floor, ceiling
+  CHECK(hi >= 5000);    // the finely tessellated pieces
+  CHECK(animated == 3);  // door, ceiling fan, ball
+  CHECK(s.frame_count == 60);
+  CHECK(s.width == 256);
+  CHECK(s.height == 256);
 }
