@@ -154,6 +154,31 @@ Mesh torus(double major, double minor, std::uint32_t segments, std::uint32_t sid
   return m;
 }
 
+Mesh lathe(const std::vector<std::pair<double, double>>& profile, std::uint32_t segments, bool cap_first,
+           bool cap_last) {
+  Mesh m;
+  const std::uint32_t n = static_cast<std::uint32_t>(profile.size());
+  for (const auto& [r, y] : profile)
+    for (std::uint32_t s = 0; s < segments; ++s) {
+      const double ph = 2 * kPi * s / segments;
+      add_vertex(m, {r * std::cos(ph), y, -r * std::sin(ph)});
+    }
+  auto at = [&](std::uint32_t i, std::uint32_t s) { return i * segments + s % segments; };
+  for (std::uint32_t i = 0; i + 1 < n; ++i)
+    for (std::uint32_t s = 0; s < segments; ++s) {
+      m.triangles.push_back({at(i, s), at(i, s + 1), at(i + 1, s)});
+      m.triangles.push_back({at(i + 1, s), at(i, s + 1), at(i + 1, s + 1)});
+    }
+  auto cap = [&](std::uint32_t i, bool flip) {
+    const std::uint32_t c = add_vertex(m, {0, profile[i].second, 0});
+    for (std::uint32_t s = 0; s < segments; ++s)
+      m.triangles.push_back(flip ? Tri{c, at(i, s + 1), at(i, s)} : Tri{c, at(i, s), at(i, s + 1)});
+  };
+  if (cap_first) cap(0, true);
+  if (cap_last) cap(n - 1, false);
+  return m;
+}
+
 Mesh generate_from_json(const JsonIn& g) {
   const std::string kind = g.at("kind").string();
   auto count = [&](const char* key, long long lo, long long def) {
@@ -191,8 +216,20 @@ Mesh generate_from_json(const JsonIn& g) {
     g.only_keys({"kind", "width", "depth", "nx", "nz"});
     return plane(positive("width", 1), positive("depth", 1), count("nx", 1, 1), count("nz", 1, 1));
   }
+  if (kind == "lathe") {
+    g.only_keys({"kind", "profile", "segments", "cap_first", "cap_last"});
+    std::vector<std::pair<double, double>> profile;
+    for (const JsonIn& p : g.at("profile").items()) {
+      const auto ry = p.items();
+      if (ry.size() != 2) p.fail("a profile point is [r, y], found " + std::to_string(ry.size()) + " numbers");
+      profile.emplace_back(ry[0].number(1e-30, 1e30), ry[1].number());
+    }
+    if (profile.size() < 2) g.at("profile").fail("a lathe profile needs at least 2 points");
+    return lathe(profile, count("segments", 3, 16), g.boolean_or("cap_first", false),
+                 g.boolean_or("cap_last", false));
+  }
   g.at("kind").fail("unknown generator \"" + kind +
-                    "\" (expected triangle_cloud, box, sphere, cylinder, torus or plane)");
+                    "\" (expected triangle_cloud, box, sphere, cylinder, torus, plane or lathe)");
 }
 
 }  // namespace oprt

@@ -7,6 +7,8 @@
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 namespace oprt {
 
@@ -23,6 +25,11 @@ Mesh cylinder(double radius, double height, std::uint32_t segments, bool caps);
 Mesh torus(double major, double minor, std::uint32_t segments, std::uint32_t sides);
 // Grid in the xz plane facing +y, centred: 2 * nx * nz triangles.
 Mesh plane(double width, double depth, std::uint32_t nx, std::uint32_t nz);
+// Surface of revolution about +y (vases, lamp shades, bowls): profile points (r, y), r > 0,
+// swept through `segments` steps: 2 * segments * (profile.size() - 1) triangles, plus
+// `segments` per cap (a fan closing the first / last profile ring).
+Mesh lathe(const std::vector<std::pair<double, double>>& profile, std::uint32_t segments, bool cap_first,
+           bool cap_last);
 
 // {"generate": {"kind": ..., ...}} from a scene file.
 Mesh generate_from_json(const JsonIn& spec);
