@@ -4,6 +4,7 @@
 //   oprt info SCENE ...       scene, spheres and their assignment
 // Any bad input ends with one message "oprt: FILE: PLACE: PROBLEM" and exit status 2.
 #include "commands.h"
+#include "render.h"
 #include "scene/error.h"
 
 #include <CLI/CLI.hpp>
@@ -31,6 +32,25 @@ int main(int argc, char** argv) {
   ref->add_option("--out", opt.out, "output directory");
   ref->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
 
+  RenderOptions ro;
+  auto* render = app.add_subcommand("render", "render with the timed SystemC model");
+  render->add_option("SCENE", ro.scene, "scene file")->required();
+  render->add_option("--arch", ro.arch_file, "architecture file (JSON, oprt-arch/1)");
+  render->add_option("--ius", ro.ius, "number of intersection units");
+  render->add_option("--frames", ro.frames, "N or A:B (inclusive); default: every frame");
+  render->add_option("--level", ro.level, "at | lt | analytic")->check(CLI::IsMember({"at", "lt", "analytic"}));
+  render->add_option("--quantum", ro.quantum, "temporal-decoupling quantum for lt, e.g. 1us");
+  render->add_option("--balance", ro.balance, "paper | round_robin | sa_n | feedback | view")
+      ->check(CLI::IsMember({"paper", "round_robin", "sa_n", "feedback", "view"}));
+  render->add_option("--subdivide", ro.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
+  render->add_option("--accel", ro.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
+  render->add_option("--kernel", ro.kernel, "moller | watertight")->check(CLI::IsMember({"moller", "watertight"}));
+  render->add_option("--precision", ro.precision, "float | double")->check(CLI::IsMember({"float", "double"}));
+  render->add_option("--resolution", ro.resolution, "WxH; default: the scene's");
+  render->add_option("--out", ro.out, "output directory");
+  render->add_option("--vcd", ro.vcd, "write a VCD trace to this file");
+  render->add_flag("!--no-progress", ro.progress, "no progress bar");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -42,6 +62,7 @@ int main(int argc, char** argv) {
   try {
     if (*info) return run_info(opt);
     if (*ref) return run_reference(opt);
+    if (*render) return run_render(ro);
   } catch (const InputError& e) {
     std::cerr << "oprt: " << e.what() << "\n";
     return 2;

@@ -25,8 +25,8 @@ struct Sphere {
 // the sphere by more than a few ulps of r (and sphere radii carry a margin larger than that,
 // see frame_setup).
 //
-// Cost: this is 9 multiplies and 11 adds (12 cycles on one adder and one multiplier, see
-// hw/cycle_schedule.h); the paper's Table 1 charges 9, the schedule of the textbook form.
+// Cost: 10 multiplies and 12 adds, 14 cycles on one adder and one multiplier (see
+// hw/cycle_schedule.cpp); the paper's Table 1 charges 9 (the textbook form schedules in 10).
 template <typename T>
 inline bool hit_sphere(const Ray<T>& ray, const Sphere<T>& s) {
   const Vec3<T> f = ray.o - s.c;

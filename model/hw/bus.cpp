@@ -1,5 +1,7 @@
 #include "hw/bus.h"
 
+#include <algorithm>
+
 namespace oprt::hw {
 
 using namespace sc_core;
@@ -19,7 +21,12 @@ Bus::Bus(const sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter
 }
 
 void Bus::map(std::uint64_t base, std::uint64_t size, std::vector<int> targets) {
-  regions_.push_back({base, size, std::move(targets)});
+  auto at = std::upper_bound(regions_.begin(), regions_.end(), base,
+                             [](std::uint64_t b, const Region& r) { return b < r.base; });
+  if ((at != regions_.end() && base + size > at->base) ||
+      (at != regions_.begin() && std::prev(at)->base + std::prev(at)->size > base))
+    SC_REPORT_FATAL(name(), "overlapping address regions");
+  regions_.insert(at, {base, size, std::move(targets)});
 }
 
 sc_time Bus::reserve(const sc_time& request, const sc_time& length) {
@@ -44,13 +51,10 @@ sc_time Bus::reserve(const sc_time& request, const sc_time& length) {
 
 void Bus::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
   const std::uint64_t a = p.get_address();
-  const Region* r = nullptr;
-  for (const Region& reg : regions_)
-    if (a >= reg.base && a - reg.base < reg.size) {
-      r = &reg;
-      break;
-    }
-  if (!r) {
+  auto it = std::upper_bound(regions_.begin(), regions_.end(), a,
+                             [](std::uint64_t x, const Region& r) { return x < r.base; });
+  const Region* r = it == regions_.begin() ? nullptr : &*std::prev(it);
+  if (!r || a - r->base >= r->size) {
     p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
     return;
   }

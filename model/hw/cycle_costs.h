@@ -2,8 +2,8 @@
 // triangle 4 to 22), with the triangle test's per-stage costs taken from its schedule
 // (cycle_schedule.cpp: 4, 14, 17, 22) and the transform's 19 confirmed by its schedule.
 // The sphere test keeps Table 1's 9 so that the paper's figures reproduce; its schedules
-// say 10 for the textbook form and 13 for the stable form the model runs (set
-// "costs": {"sphere": 13} in an architecture file to charge that). Every value can be
+// say 10 for the textbook form and 14 for the stable form the model runs (set
+// "costs": {"sphere": 14} in an architecture file to charge that). Every value can be
 // overridden by the architecture file.
 #pragma once
 

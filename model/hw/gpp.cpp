@@ -2,6 +2,8 @@
 
 #include "ref/camera.h"
 
+#include <algorithm>
+
 namespace oprt::hw {
 
 using namespace sc_core;
@@ -70,19 +72,24 @@ void Gpp<T>::write(std::uint64_t address, void* data, unsigned bytes) {
 }
 
 template <typename T>
-bool Gpp<T>::fifos_have_space() const {
+int Gpp<T>::full_fifo() const {
+  if (arch_.fifo_depth == 0) return -1;
   for (int i = 0; i < fifos.size(); ++i)
-    if (!fifos[i]->has_space()) return false;
-  return true;
+    if (!fifos[i]->has_space()) return i;
+  return -1;
 }
 
+// Wait for an answer, or for room in the (first) full FIFO if a ray is waiting to be
+// written; a unit popping another FIFO changes nothing the GPP waits for.
 template <typename T>
-void Gpp<T>::wait_for_space_or_answers() {
-  sc_event_or_list events;
-  events |= answered_;
-  for (int i = 0; i < fifos.size(); ++i) events |= fifos[i]->freed_event();
-  clock_.sync();
-  wait(events);
+void Gpp<T>::wait_for_space_or_answers(bool want_space) {
+  if (clock_.offset() != SC_ZERO_TIME) {  // catch up first; the caller looks again
+    clock_.sync();
+    return;
+  }
+  const int full = want_space ? full_fifo() : -1;
+  if (full >= 0) wait(answered_ | fifos[full]->freed_event());
+  else wait(answered_);
   clock_.resync();
 }
 
@@ -169,10 +176,33 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd, const Shader<T>& 
   trace_in_flight();
 }
 
+// Object memories hold the geometry of their unit's spheres. Before the animation (the first
+// frame) every memory is loaded: set-up, outside the frame's time. When a later frame's
+// assignment moves spheres, the geometry a unit gains is written into its memory over the
+// bus before the frame's rays: that transfer is part of the frame.
+template <typename T>
+void Gpp<T>::load_memories() {
+  loaded_.resize(assignment_.size());
+  for (std::size_t u = 0; u < assignment_.size(); ++u) {
+    if (loaded_[u] == assignment_[u]) continue;
+    std::uint64_t bytes = 0;
+    for (std::uint32_t s : assignment_[u])
+      if (std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())
+        bytes += static_cast<std::uint64_t>(geom_.triangles_in(s)) * Bytes<T>::triangle;
+    MemoryLoadPacket packet{assignment_[u]};
+    stats_.memory_load_bytes += bytes;
+    write(addr::iu_window(static_cast<int>(u)) + addr::iu_memory, &packet, static_cast<unsigned>(bytes));
+    loaded_[u] = assignment_[u];
+  }
+}
+
 template <typename T>
 void Gpp<T>::render_frame(const FrameCommand& cmd) {
   stats_ = GppStats{};
+  const bool first = loaded_.empty();
+  if (first) load_memories();
   stats_.start = clock_.now();
+  if (!first) load_memories();
   if (vcd_) vcd_->change(vcd_frame_, stats_.start.value(), static_cast<std::uint64_t>(cmd.frame));
   const FrameSetup<T> setup = setup_frame(scene_, geom_, cmd.frame, cmd.to_world, cmd.camera);
 
@@ -211,14 +241,14 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
       continue;
     }
     if (!shadow_queue_.empty()) {
-      if (fifos_have_space()) {
+      if (full_fifo() < 0) {
         const std::uint32_t id = shadow_queue_.front();
         shadow_queue_.pop_front();
         issue(id);
         continue;
       }
     } else if (next_pixel < pixels) {
-      if (fifos_have_space()) {
+      if (full_fifo() < 0) {
         const int x = static_cast<int>(next_pixel % cmd.width), y = static_cast<int>(next_pixel / cmd.width);
         issue(new_ray(camera.ray<T>(x, y), RayKind::primary, static_cast<std::uint32_t>(next_pixel)));
         ++next_pixel;
@@ -227,7 +257,7 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     } else if (retired_ == issued_) {
       break;
     }
-    wait_for_space_or_answers();
+    wait_for_space_or_answers(!shadow_queue_.empty() || next_pixel < pixels);
   }
   stats_.end = clock_.now();
 }

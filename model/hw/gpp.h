@@ -42,6 +42,7 @@ struct GppStats {
   std::uint64_t rays[kRayKinds] = {};
   sc_core::sc_time start, end;           // the frame's first config write and last retirement
   std::uint64_t config_bytes = 0;
+  std::uint64_t memory_load_bytes = 0;   // geometry written into object memories this frame
 };
 
 template <typename T>
@@ -76,9 +77,10 @@ class Gpp : public sc_core::sc_module {
   void host_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
   void hit_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
   void render_frame(const FrameCommand& cmd);
+  void load_memories();
   void write(std::uint64_t address, void* data, unsigned bytes);
-  bool fifos_have_space() const;
-  void wait_for_space_or_answers();
+  int full_fifo() const;  // index of a full ray FIFO, or -1
+  void wait_for_space_or_answers(bool want_space);
   std::uint32_t new_ray(const Ray<T>& ray, RayKind kind, std::uint32_t pixel);
   void issue(std::uint32_t ray);
   void retire(std::uint32_t ray, const FrameCommand& cmd, const Shader<T>& shader);
@@ -89,7 +91,7 @@ class Gpp : public sc_core::sc_module {
   const Arch& arch_;
   std::vector<RayRecord<T>>& rays_;
   const sc_core::sc_time cycle_;
-  std::vector<std::vector<std::uint32_t>> assignment_;
+  std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
   std::vector<IuRegisters<T>> registers_;
   LocalClock clock_;
   GppStats stats_;

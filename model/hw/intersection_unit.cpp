@@ -77,8 +77,11 @@ void IntersectionUnit<T>::run() {
   for (;;) {
     RayEntry e;
     while (!fifo->pop(e, clock_.now())) {
+      if (clock_.offset() != SC_ZERO_TIME) {  // catch up first, then look again: a ray
+        clock_.sync();                         // written meanwhile would be missed otherwise
+        continue;
+      }
       if (vcd_) trace_state(UnitState::idle, clock_.now());
-      clock_.sync();
       wait(fifo->pushed_event());
       clock_.resync();
     }

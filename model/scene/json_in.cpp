@@ -135,7 +135,8 @@ long long JsonIn::integer(long long lo, long long hi) const {
   long long v;
   if (j_->is_number_unsigned()) {
     const auto u = j_->get<unsigned long long>();
-    if (u > static_cast<unsigned long long>(hi)) fail("value " + std::to_string(u) + " is too large");
+    if (u > static_cast<unsigned long long>(hi))
+      fail("value " + std::to_string(u) + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     v = static_cast<long long>(u);
   } else {
     v = j_->get<long long>();

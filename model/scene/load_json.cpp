@@ -71,7 +71,10 @@ MotionPtr read_animation(const JsonIn& a) {
 Mesh read_mesh(const JsonIn& mj, const std::string& scene_file) {
   if (mj.has("obj")) {
     mj.only_keys({"obj", "transform"});
-    return load_obj(relative_to(scene_file, mj.at("obj").string()));
+    const JsonIn o = mj.at("obj");
+    const std::string path = relative_to(scene_file, o.string());
+    if (!std::filesystem::exists(path)) o.fail("cannot open OBJ file " + path);
+    return load_obj(path);
   }
   if (mj.has("generate")) {
     mj.only_keys({"generate", "transform"});

@@ -17,7 +17,7 @@ Affine<double> random_affine(std::mt19937_64& rng) {
 }
 }  // namespace
 
-TEST_CASE("affine: T R S applied to a point; by hand", "[affine]") {
+TEST_CASE("affine: T R S applied to a point - by hand", "[affine]") {
   // Scale 2, then 90 degrees about z, then translate (1, 2, 3): (1, 0, 0) -> (2, 0, 0) ->
   // (0, 2, 0) -> (1, 4, 3).
   const Affine<double> m = translate({1, 2, 3}) * rotate({0, 0, 1}, kHalfPi) * scale(Vec3d(2));
@@ -45,7 +45,7 @@ TEST_CASE("affine: inverse undoes the map (seeded random matrices)", "[affine]")
   CHECK(checked > 190);
 }
 
-TEST_CASE("affine: singular; NaN and infinite matrices are rejected with a reason", "[affine]") {
+TEST_CASE("affine: singular - NaN and infinite matrices are rejected with a reason", "[affine]") {
   Affine<double> flat = scale({1, 1, 0});
   CHECK_FALSE(inverse(flat));
   CHECK(why_not_invertible(flat).find("singular") != std::string::npos);

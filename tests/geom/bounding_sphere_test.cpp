@@ -27,7 +27,7 @@ TEST_CASE("minimal sphere: known answers", "[bounding]") {
   CHECK(s.r == 0);
 }
 
-TEST_CASE("minimal sphere: encloses; and no nearby centre does better (seeded clouds)", "[bounding]") {
+TEST_CASE("minimal sphere: encloses - and no nearby centre does better (seeded clouds)", "[bounding]") {
   std::mt19937_64 rng(5);
   std::normal_distribution<double> n;
   for (int trial = 0; trial < 20; ++trial) {

@@ -15,7 +15,7 @@ Ray<T> down_z(T x, T y, T tmax = kInf<T>) {
 }
 }  // namespace
 
-TEMPLATE_TEST_CASE("moller: a hit with hand-computed t; u; v", "[triangle]", float, double) {
+TEMPLATE_TEST_CASE("moller: a hit with hand-computed t - u - v", "[triangle]", float, double) {
   using T = TestType;
   const auto h = intersect_moller(down_z<T>(0.25, 0.5), unit_tri<T>());
   CHECK(h.hit);

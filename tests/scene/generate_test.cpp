@@ -31,7 +31,7 @@ TEST_CASE("generators: geometry stays in its stated bounds", "[generate]") {
   }
 }
 
-TEST_CASE("generators: a seeded cloud is the same every time; another seed differs", "[generate]") {
+TEST_CASE("generators: a seeded cloud is the same every time - another seed differs", "[generate]") {
   const Mesh a = triangle_cloud(64, 1, 0.1, 9), b = triangle_cloud(64, 1, 0.1, 9), c = triangle_cloud(64, 1, 0.1, 10);
   CHECK(a.vertices == b.vertices);
   CHECK(a.vertices != c.vertices);
@@ -56,7 +56,7 @@ TEST_CASE("generators: lathe vertices lie on the profile's circles", "[generate]
   CHECK(m.vertices.size() == 3 * 16 + 2);
 }
 
-TEST_CASE("generators: lathe from JSON with caps; bad profile rejected", "[generate]") {
+TEST_CASE("generators: lathe from JSON with caps - bad profile rejected", "[generate]") {
   const auto doc = JsonIn::parse_text(
       R"({"kind": "lathe", "profile": [[0.5, 0], [0.6, 1], [0.4, 2]], "segments": 10, "cap_first": true})", "t.json");
   CHECK(generate_from_json(JsonIn(doc, "t.json")).triangles.size() == 2 * 10 * 2 + 10);
@@ -82,7 +82,7 @@ TEST_CASE("paper scenes: polygons is 32 equal animated groups of 2048 triangles"
   CHECK(s.height == 256);
 }
 
-TEST_CASE("paper scenes: room is 35108 triangles in 32 very unequal objects; a few animated", "[generate][paper]") {
+TEST_CASE("paper scenes: room is 35108 triangles in 32 very unequal objects - a few animated", "[generate][paper]") {
   const Scene s = load_scene(std::string(OPRT_SOURCE_DIR) + "/scenes/paper_room.json");
   CHECK(s.triangle_count() == 35108);
   REQUIRE(s.objects.size() == 32);

@@ -67,7 +67,7 @@ TEST_CASE("scene: the DESIGN example loads with its contents", "[load]") {
   CHECK_FALSE(s.objects[1].motion->animated());
 }
 
-TEST_CASE("scene: malformed files fail with file; place and problem", "[load]") {
+TEST_CASE("scene: malformed files fail with file - place and problem", "[load]") {
   expect_error("{\"format\": ", "line 1", "malformed JSON");
   expect_error("{\n\"format\": \"oprt-scene/1\",\n  \"camera\": [1,,2]}", "line 3", "malformed JSON");
   expect_error("[1, 2]", "/", "expected an object");

@@ -20,7 +20,7 @@ KeyframeMotion two_keys() {
 }
 }  // namespace
 
-TEST_CASE("motion: at the keys; between them; and clamped outside", "[motion]") {
+TEST_CASE("motion: at the keys - between them - and clamped outside", "[motion]") {
   const KeyframeMotion m = two_keys();
   // At frame 20: scale 3, rotate 90 about z, translate 10: (1,0,0) -> (3,0,0) -> (0,3,0) -> (10,3,0).
   Vec3d p = m.at(20).point({1, 0, 0});

@@ -1,0 +1,99 @@
+#include "render.h"
+
+#include "balance/policy.h"
+#include "ref/scene_geometry.h"
+#include "scene/error.h"
+#include "scene/load.h"
+#include "testbench.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <unistd.h>
+
+#include <systemc>
+
+namespace oprt {
+
+extern std::function<int()> g_simulation;
+
+Arch resolve_arch(const RenderOptions& o) {
+  Arch a = o.arch_file.empty() ? Arch{} : load_arch(o.arch_file);
+  if (o.ius) {
+    if (*o.ius < 1) throw InputError("--ius", std::to_string(*o.ius), "need at least one intersection unit");
+    a.ius = *o.ius;
+  }
+  if (o.level) a.level = *o.level == "at" ? Level::at : *o.level == "lt" ? Level::lt : Level::analytic;
+  if (o.quantum) a.quantum_ns = parse_time_ns(*o.quantum, "--quantum");
+  if (o.balance) a.balance = *o.balance;
+  if (o.subdivide) a.subdivide = *o.subdivide;
+  if (o.accel) a.accel = *o.accel;
+  if (o.kernel) a.kernel = *o.kernel;
+  if (o.precision) a.precision = *o.precision;
+  return a;
+}
+
+namespace {
+
+void not_yet(bool unsupported, const std::string& what) {
+  if (unsupported) throw InputError("oprt render", what, "not implemented yet in this version of the model");
+}
+
+template <typename T>
+int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
+  const auto spheres = make_spheres(scene, job.arch.subdivide);
+  const std::size_t units = units_for(spheres.size(), static_cast<std::size_t>(job.arch.ius));
+  if (units < static_cast<std::size_t>(job.arch.ius))
+    std::printf("oprt: %d intersection units requested, the scene has %zu spheres: instantiating %zu units\n",
+                job.arch.ius, spheres.size(), units);
+  job.assignment = static_assignment(job.arch.balance, spheres, units);
+  const SceneGeometry<T> geometry = build_geometry<T>(scene, spheres);
+  job.header = {{"scene", o.scene},
+                {"triangles", scene.triangle_count()},
+                {"objects", scene.objects.size()},
+                {"spheres", spheres.size()},
+                {"units", units},
+                {"resolution", {job.width, job.height}},
+                {"arch", to_json(job.arch)}};
+  g_simulation = [&] {
+    simulate<T>(job, geometry);
+    return 0;
+  };
+  // SystemC reports become exceptions (caught in main), never an abort.
+  sc_core::sc_report_handler::set_actions(sc_core::SC_ERROR, sc_core::SC_DISPLAY | sc_core::SC_THROW);
+  sc_core::sc_report_handler::set_actions(sc_core::SC_FATAL, sc_core::SC_DISPLAY | sc_core::SC_THROW);
+  sc_core::sc_report_handler::set_actions("/OSCI/SystemC", sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
+  char arg0[] = "oprt";
+  char* argv[] = {arg0, nullptr};
+  const int rc = sc_core::sc_elab_and_sim(1, argv);
+  g_simulation = nullptr;
+  return rc;
+}
+
+}  // namespace
+
+int run_render(const RenderOptions& o) {
+  ::setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 0);
+  const Scene scene = load_scene(o.scene);
+  RenderJob job;
+  job.scene = &scene;
+  job.arch = resolve_arch(o);
+  not_yet(job.arch.level == Level::analytic, "--level analytic");
+  not_yet(job.arch.accel == "bvh", "--accel bvh");
+  not_yet(job.arch.kernel == "watertight", "--kernel watertight");
+  not_yet(job.arch.balance == "feedback" || job.arch.balance == "view", "--balance " + job.arch.balance);
+  job.width = scene.width;
+  job.height = scene.height;
+  parse_resolution(o.resolution, job.width, job.height);
+  job.frames = parse_frames(o.frames, scene);
+  job.out_dir = o.out;
+  job.vcd_path = o.vcd;
+  job.progress = o.progress && ::isatty(2);
+  std::filesystem::create_directories(o.out);
+  if (!o.vcd.empty() && std::filesystem::path(o.vcd).has_parent_path())
+    std::filesystem::create_directories(std::filesystem::path(o.vcd).parent_path());
+  return job.arch.precision == "double" ? render<double>(o, scene, job) : render<float>(o, scene, job);
+}
+
+}  // namespace oprt

@@ -1,0 +1,60 @@
+// What a render measures, per frame and per unit, and its files: stats.json (the resolved
+// scene and architecture, a summary, and per frame the per-unit cycle breakdown) and
+// stats.csv (one row per frame and unit). Field names are relied upon by scripts/.
+#pragma once
+
+#include "hw/arch.h"
+#include "hw/unit_cycles.h"
+#include "ref/work.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace oprt {
+
+struct UnitFrameStats {
+  int id = 0;
+  std::vector<std::uint32_t> spheres;
+  std::uint64_t primitives = 0;
+  std::uint64_t rays = 0;
+  hw::UnitCycles cycles;
+  std::uint64_t idle = 0;
+  WorkCounts work[kRayKinds];
+  std::uint64_t memory_bytes = 0;
+};
+
+struct FrameStats {
+  int frame = 0;
+  std::uint64_t makespan = 0;  // cycles from the frame's first configuration write to its last retired ray
+  double wall_s = 0;
+  std::uint64_t rays[kRayKinds] = {};
+  std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0;
+  std::uint64_t memory_load_bytes = 0;  // geometry moved into object memories this frame
+  std::uint64_t image_hash = 0;
+  std::vector<UnitFrameStats> units;
+
+  std::uint64_t busy() const;
+  // Sum of busy cycles / (units x makespan).
+  double efficiency() const;
+  double idle_fraction() const;
+};
+
+class StatsWriter {
+ public:
+  StatsWriter(std::string dir, nlohmann::json header);
+  // Adds the frame and rewrites both files (atomically): an interrupted run leaves the
+  // stats of every completed frame.
+  void add(const FrameStats& f);
+
+ private:
+  std::string dir_;
+  nlohmann::json doc_;
+  std::vector<FrameStats> frames_;
+};
+
+nlohmann::json to_json(const FrameStats& f);
+
+}  // namespace oprt

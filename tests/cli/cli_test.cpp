@@ -1,0 +1,127 @@
+// The oprt command as a user runs it: exit codes and messages for bad input, and the
+// timing levels compared run against run (two simulations need two processes).
+#include "ref/image.h"
+
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+
+namespace {
+struct Result {
+  int status;
+  std::string output;  // stdout and stderr
+};
+
+Result run_oprt(const std::string& args) {
+  const std::string cmd = std::string(OPRT_BINARY) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+  const int st = pclose(p);
+  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+}
+
+std::string scene(const std::string& name) { return std::string(OPRT_SOURCE_DIR) + "/scenes/" + name; }
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("oprt_cli_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+nlohmann::json stats(const fs::path& dir) {
+  std::ifstream in(dir / "stats.json");
+  return nlohmann::json::parse(in);
+}
+}  // namespace
+
+TEST_CASE("cli: bad input ends with one message naming the place and exit status 2", "[cli]") {
+  const fs::path d = temp_dir("bad");
+  std::ofstream(d / "arch.json") << R"({"format": "oprt-arch/1", "ius": 0})";
+  Result r = run_oprt("render " + scene("paper_room.json") + " --arch " + (d / "arch.json").string() + " --out " +
+                  (d / "out").string());
+  CHECK(r.status == 2);
+  CHECK(r.output.find("arch.json: /ius: value 0 is out of range") != std::string::npos);
+  CHECK_FALSE(fs::exists(d / "out" / "stats.json"));
+
+  r = run_oprt("render /nonexistent.json");
+  CHECK(r.status == 2);
+  CHECK(r.output.find("/nonexistent.json") != std::string::npos);
+
+  r = run_oprt("render " + scene("paper_room.json") + " --frames 70:80");
+  CHECK(r.status == 2);
+  CHECK(r.output.find("frames 0:59 only") != std::string::npos);
+
+  r = run_oprt("render " + scene("paper_room.json") + " --ius 0");
+  CHECK(r.status == 2);
+
+  r = run_oprt("render " + scene("paper_room.json") + " --quantum 5parsec --level lt");
+  CHECK(r.status == 2);
+  CHECK(r.output.find("unknown time unit") != std::string::npos);
+
+  r = run_oprt("info " + scene("paper_room.json") + " --bogus");
+  CHECK(r.status == 2);
+}
+
+TEST_CASE("cli: lt and at give identical images and busy cycles", "[cli][lt]") {
+  for (const char* config : {"ideal", "contended"}) {
+    INFO(config);
+    const fs::path d = temp_dir(std::string("levels_") + config);
+    std::string arch = R"({"format": "oprt-arch/1", "ius": 6)";
+    if (std::string(config) == "contended")
+      arch += R"(, "ray_fifo_depth": 4, "bus": {"model": "shared", "bytes_per_cycle": 8},
+                "memory": {"model": "latency", "latency_cycles": 10})";
+    std::ofstream(d / "arch.json") << arch << "}";
+    const std::string common = "render " + scene("paper_room.json") + " --arch " + (d / "arch.json").string() +
+                               " --frames 5:6 --resolution 24x24 --no-progress";
+    REQUIRE(run_oprt(common + " --level at --out " + (d / "at").string()).status == 0);
+    REQUIRE(run_oprt(common + " --level lt --quantum 10us --out " + (d / "lt").string()).status == 0);
+    for (const char* f : {"frame_0005.exr", "frame_0006.exr"})
+      CHECK(oprt::read_exr((d / "at" / f).string()) == oprt::read_exr((d / "lt" / f).string()));
+    const auto a = stats(d / "at"), b = stats(d / "lt");
+    for (int f = 0; f < 2; ++f)
+      for (int u = 0; u < 6; ++u) {
+        const auto& ua = a["frames"][f]["ius"][u]["cycles"];
+        const auto& ub = b["frames"][f]["ius"][u]["cycles"];
+        CHECK(ua["sphere"] == ub["sphere"]);
+        CHECK(ua["transform"] == ub["transform"]);
+        CHECK(ua["primitive"] == ub["primitive"]);
+      }
+  }
+}
+
+TEST_CASE("cli: stats name the fields scripts rely on", "[cli]") {
+  const fs::path d = temp_dir("stats");
+  REQUIRE(run_oprt("render " + scene("paper_polygons.json") + " --frames 0 --resolution 16x16 --ius 4 --out " +
+               d.string()).status == 0);
+  const auto s = stats(d);
+  const auto& f = s["frames"][0];
+  for (const char* k : {"frame", "makespan_cycles", "parallel_efficiency", "wall_s", "rays", "ius"}) CHECK(f.contains(k));
+  CHECK(f["rays"]["primary"] == 256);
+  CHECK(f["ius"].size() == 4);
+  for (const char* k : {"id", "spheres", "primitives", "rays", "cycles"}) CHECK(f["ius"][0].contains(k));
+  for (const char* k : {"sphere", "transform", "primitive", "idle", "stall"}) CHECK(f["ius"][0]["cycles"].contains(k));
+  // Parallel efficiency by its definition.
+  double busy = 0;
+  for (const auto& u : f["ius"]) busy += u["busy_cycles"].get<double>();
+  CHECK(f["parallel_efficiency"].get<double>() == Approx(busy / (4 * f["makespan_cycles"].get<double>())));
+  std::ifstream csv(d / "stats.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  int rows = 0;
+  while (std::getline(csv, row)) ++rows;
+  CHECK(header.rfind("frame,iu,", 0) == 0);
+  CHECK(rows == 4);
+  CHECK(fs::exists(d / "frame_0000.exr"));
+  CHECK(fs::exists(d / "frame_0000.png"));
+}

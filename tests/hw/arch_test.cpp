@@ -1,0 +1,79 @@
+#include "hw/arch.h"
+#include "scene/error.h"
+
+#include <catch2/catch.hpp>
+
+using namespace oprt;
+
+namespace {
+Arch parse(const std::string& text) { return arch_from_json(nlohmann::json::parse(text), "arch.json"); }
+
+void expect_error(const std::string& text, const std::string& place, const std::string& problem) {
+  try {
+    parse(text);
+    FAIL("no error for " << text);
+  } catch (const InputError& e) {
+    INFO(e.what());
+    CHECK(e.file() == "arch.json");
+    CHECK(e.place().find(place) != std::string::npos);
+    CHECK(e.problem().find(problem) != std::string::npos);
+  }
+}
+}  // namespace
+
+TEST_CASE("arch: defaults are the paper's ideal assumptions", "[arch]") {
+  const Arch a = parse(R"({"format": "oprt-arch/1"})");
+  CHECK(a.ius == 32);
+  CHECK(a.costs.sphere == 9);
+  CHECK(a.costs.transform == 19);
+  CHECK(a.fifo_depth == 0);
+  CHECK(a.bus.model == BusModel::ideal);
+  CHECK(a.memory.model == MemoryModel::ideal);
+  CHECK(a.gpp.cycles_per_ray == 0);
+  CHECK(a.level == Level::at);
+}
+
+TEST_CASE("arch: every field is read", "[arch]") {
+  const Arch a = parse(R"({"format": "oprt-arch/1", "clock_mhz": 200, "ius": 8,
+    "costs": {"sphere": 13, "transform": 20, "triangle": [5, 15, 18, 23]}, "ray_fifo_depth": 4,
+    "bus": {"model": "shared", "bytes_per_cycle": 16, "arbitration_cycles": 2},
+    "memory": {"model": "latency", "latency_cycles": 7, "bytes_per_cycle": 32},
+    "gpp": {"cycles_per_ray": 3, "cycles_per_hit": 40}, "level": "lt", "quantum": "250 ns",
+    "balance": "sa_n", "subdivide": 8, "precision": "double"})");
+  CHECK(a.cycle_ns() == 5);
+  CHECK(a.ius == 8);
+  CHECK(a.costs.tri_stage[3] == 23);
+  CHECK(a.fifo_depth == 4);
+  CHECK(a.bus.bytes_per_cycle == 16);
+  CHECK(a.bus.arbitration_cycles == 2);
+  CHECK(a.memory.latency_cycles == 7);
+  CHECK(a.gpp.cycles_per_hit == 40);
+  CHECK(a.level == Level::lt);
+  CHECK(a.quantum_ns == 250);
+  CHECK(a.balance == "sa_n");
+  CHECK(a.subdivide == 8);
+  CHECK(a.precision == "double");
+}
+
+TEST_CASE("arch: bad files fail with the place and the problem", "[arch]") {
+  expect_error(R"({"format": "oprt-arch/1", "ius": 0})", "/ius", "out of range");
+  expect_error(R"({"format": "oprt-arch/1", "costs": {"sphere": -1}})", "/costs/sphere", "out of range");
+  expect_error(R"({"format": "oprt-arch/1", "costs": {"triangle": [4, 22]}})", "/costs/triangle", "expected 4");
+  expect_error(R"({"format": "oprt-arch/1", "bus": {"model": "crossbar"}})", "/bus/model", "unknown value");
+  expect_error(R"({"format": "oprt-arch/1", "bus": {"model": "shared", "bytes_per_cycle": 0}})",
+               "/bus/bytes_per_cycle", "out of range");
+  expect_error(R"({"format": "oprt-arch/1", "fifo": 4})", "/fifo", "unknown key");
+  expect_error(R"({"format": "oprt-arch/1", "clock_mhz": "fast"})", "/clock_mhz", "expected a number");
+  expect_error(R"({"format": "oprt-arch/2"})", "/format", "unsupported");
+  expect_error(R"({"ius": 4})", "/", "missing required key \"format\"");
+  CHECK_THROWS_AS(parse(R"({"format": "oprt-arch/1", "quantum": "10 parsecs"})"), InputError);
+}
+
+TEST_CASE("arch: time strings", "[arch]") {
+  CHECK(parse_time_ns("10 ns", "q") == 10);
+  CHECK(parse_time_ns("1us", "q") == 1000);
+  CHECK(parse_time_ns("100 us", "q") == 100000);
+  CHECK(parse_time_ns("2.5ms", "q") == 2.5e6);
+  CHECK_THROWS_AS(parse_time_ns("-1 ns", "q"), InputError);
+  CHECK_THROWS_AS(parse_time_ns("ns", "q"), InputError);
+}

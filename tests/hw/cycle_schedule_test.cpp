@@ -1,0 +1,66 @@
+#include "hw/arch.h"
+#include "hw/cycle_costs.h"
+#include "hw/cycle_schedule.h"
+
+#include <catch2/catch.hpp>
+
+#include <map>
+
+using namespace oprt;
+
+namespace {
+// Independent check of a schedule: every op placed once, after its inputs, at most one op
+// per unit per cycle.
+void check_valid(const Schedule& s) {
+  const OpGraph& g = *s.graph;
+  std::map<std::string, int> at;
+  std::map<std::pair<int, int>, int> used;  // (cycle, unit) -> ops
+  for (std::size_t i = 0; i < g.ops.size(); ++i) {
+    REQUIRE(s.cycle[i] >= 1);
+    at[g.ops[i].name] = s.cycle[i];
+    ++used[{s.cycle[i], static_cast<int>(g.ops[i].fu)}];
+  }
+  for (std::size_t i = 0; i < g.ops.size(); ++i)
+    for (const auto& in : g.ops[i].in) CHECK(at.at(in) < s.cycle[i]);
+  for (const auto& [k, n] : used) CHECK(n == 1);
+}
+}  // namespace
+
+TEST_CASE("schedules: the triangle test exits at 4 14 17 and 22 cycles", "[schedule]") {
+  const Schedule s = list_schedule(moller_graph());
+  check_valid(s);
+  CHECK(s.exit_cycle == std::vector<int>{4, 14, 17, 22});  // the paper's range is 4 to 22
+  // 21 multiplies and 18 adds in 22 cycles: the multiplier is busy in all but one cycle.
+  int muls = 0, adds = 0;
+  for (const Op& op : moller_graph().ops) (op.fu == Fu::multiplier ? muls : adds) += 1;
+  CHECK(muls == 21);
+  CHECK(adds == 18);
+}
+
+TEST_CASE("schedules: transform 19 and sphere tests 10 (textbook) and 14 (stable)", "[schedule]") {
+  const Schedule t = list_schedule(transform_graph());
+  check_valid(t);
+  CHECK(t.length() == 19);  // Table 1
+  const Schedule st = list_schedule(sphere_stable_graph());
+  check_valid(st);
+  CHECK(st.length() == 14);
+  const Schedule tb = list_schedule(sphere_textbook_graph());
+  check_valid(tb);
+  CHECK(tb.length() == 10);
+}
+
+TEST_CASE("schedules: default costs are Table 1 and the schedules", "[schedule]") {
+  const CycleCosts def, sched = scheduled_costs();
+  CHECK(def.sphere == 9);
+  CHECK(def.transform == sched.transform);
+  for (int k = 0; k < kTriStages; ++k) CHECK(def.tri_stage[k] == sched.tri_stage[k]);
+  CHECK(sched.sphere == 14);
+  CHECK(list_schedule(moller_graph()).table().find("det-u") != std::string::npos);
+}
+
+TEST_CASE("schedules: malformed graphs are refused", "[schedule]") {
+  OpGraph bad{"bad", {"done"}, {{"a", Fu::adder, {"missing"}, 0}}};
+  CHECK_THROWS_AS(list_schedule(bad), std::logic_error);
+  OpGraph no_exit{"no exit", {"done"}, {{"a", Fu::adder, {}, -1}}};
+  CHECK_THROWS_AS(list_schedule(no_exit), std::logic_error);
+}

@@ -1,0 +1,149 @@
+// The timed model against the functional reference: same images, same work, every ray
+// retired once, at both timing levels and under contention.
+#include "harness.h"
+#include "hw/unit_cycles.h"
+#include "ref/camera.h"
+
+#include <catch2/catch.hpp>
+
+using namespace oprt;
+
+namespace {
+
+// The work each unit must have done, derived without the SystemC model: replay the frame
+// functionally with each unit's registers (the GPP's job done by hand: merge the units'
+// nearest hits, shade, send the shadow rays to every unit).
+std::vector<hw::UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<float>& g, const Assignment& a,
+                                        const CycleCosts& costs, int frame, int w, int h) {
+  const FrameSetup<float> f = setup_frame(scene, g, frame);
+  std::vector<IuRegisters<float>> regs(a.units());
+  for (std::size_t u = 0; u < a.units(); ++u) regs[u].load(f, g, a.unit[u]);
+  std::vector<WorkCounts> work(a.units());
+  const CameraRays cam(f.camera, w, h);
+  const Shader<float> shader(scene, f);
+  std::vector<Ray<float>> shadow;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const Ray<float> ray = cam.ray<float>(x, y);
+      HitRecord<float> best;
+      for (std::size_t u = 0; u < a.units(); ++u) {
+        const HitRecord<float> hit = trace_nearest(g, regs[u], ray, [&](const SphereVisit& v) { work[u] += v.work; });
+        if (hit.valid() && closer(hit, best)) best = hit;
+      }
+      if (!best.valid()) continue;
+      shadow.clear();
+      shader.prepare(ray, best, shadow);
+      for (const Ray<float>& s : shadow)
+        for (std::size_t u = 0; u < a.units(); ++u) trace_any(g, regs[u], s, [&](const SphereVisit& v) { work[u] += v.work; });
+    }
+  std::vector<hw::UnitCycles> out;
+  for (const WorkCounts& wk : work) out.push_back(hw::work_cycles(wk, costs));
+  return out;
+}
+
+void check_matches_reference(const std::string& name, int size) {
+  const Scene scene = load_scene(test::scene_path(name));
+  Arch arch;  // the paper's ideal assumptions, 32 units
+  test::Run run = test::simulate_scene<float>(scene, arch, {0, 0}, size, size);
+  const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres);
+  const FrameResult ref = render_reference(scene, g, 0, size, size);
+  const FrameImage& img = run.job.images.at(0);
+  CHECK(img.r == ref.image.r);
+  CHECK(img.g == ref.image.g);
+  CHECK(img.b == ref.image.b);
+  CHECK(img.z == ref.image.z);
+  CHECK(img.object == ref.image.object);
+  CHECK(img.prim == ref.image.prim);
+  CHECK(img == ref.image);  // and bit for bit, NaN-safe
+  // The image must show something: most pixels hit geometry.
+  std::size_t hits = 0;
+  for (auto o : img.object) hits += o != 0xFFFFFFFFu;
+  CHECK(hits > img.size() / 4);
+}
+
+}  // namespace
+
+TEST_CASE("render equals reference bit for bit on paper_room", "[engine]") { check_matches_reference("paper_room.json", 40); }
+
+TEST_CASE("render equals reference bit for bit on paper_polygons", "[engine]") {
+  check_matches_reference("paper_polygons.json", 32);
+}
+
+TEST_CASE("per-unit busy cycles equal the functional work times the costs", "[engine]") {
+  const Scene scene = load_scene(test::scene_path("paper_room.json"));
+  Arch arch;
+  arch.ius = 7;  // several spheres per unit: early exits across spheres matter
+  arch.balance = "round_robin";
+  const int n = 32;
+  test::Run run = test::simulate_scene<float>(scene, arch, {3, 3}, n, n);
+  const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres);
+  const auto expect = replay_busy(scene, g, run.job.assignment, arch.costs, 3, n, n);
+  const FrameStats& fs = run.job.results.at(0);
+  REQUIRE(fs.units.size() == 7);
+  for (std::size_t u = 0; u < fs.units.size(); ++u) {
+    INFO("unit " << u);
+    CHECK(fs.units[u].cycles.sphere == expect[u].sphere);
+    CHECK(fs.units[u].cycles.transform == expect[u].transform);
+    CHECK(fs.units[u].cycles.primitive == expect[u].primitive);
+    CHECK(fs.units[u].cycles.stall == 0);  // ideal bus and memory
+    CHECK(fs.units[u].cycles.busy() + fs.units[u].idle == fs.makespan);
+  }
+  // The makespan is at least the busiest unit's work and, with ideal everything, the
+  // frame cannot end before the last answer.
+  std::uint64_t most = 0;
+  for (const auto& u : fs.units) most = std::max(most, u.cycles.busy());
+  CHECK(fs.makespan >= most);
+}
+
+TEST_CASE("every ray retires exactly once and every unit answers every ray", "[engine]") {
+  const Scene scene = load_scene(test::scene_path("paper_room.json"));
+  Arch arch;
+  arch.ius = 5;
+  const int n = 24;
+  test::Run run = test::simulate_scene<float>(scene, arch, {0, 1}, n, n);
+  const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres);
+  for (int f = 0; f <= 1; ++f) {
+    const FrameResult ref = render_reference(scene, g, f, n, n);
+    const FrameStats& fs = run.job.results.at(f);
+    CHECK(fs.rays[0] == static_cast<std::uint64_t>(n * n));
+    CHECK(fs.rays[1] == ref.work.rays[1]);  // the reference's shadow rays, one each
+    for (const auto& u : fs.units) CHECK(u.rays == fs.rays[0] + fs.rays[1]);
+    // Primary work does not depend on the partition: summed over units it is the reference's.
+    WorkCounts primary;
+    for (const auto& u : fs.units) primary += u.work[0];
+    CHECK(primary == ref.work.total(RayKind::primary));
+    CHECK(run.job.images.at(f) == ref.image);
+  }
+}
+
+TEST_CASE("fifo depth 1 with a shared bus and memory latency completes with the same image", "[engine][contention]") {
+  const Scene scene = load_scene(test::scene_path("paper_room.json"));
+  Arch tight;
+  tight.ius = 8;
+  tight.fifo_depth = 1;
+  tight.bus.model = BusModel::shared;
+  tight.bus.bytes_per_cycle = 8;
+  tight.memory.model = MemoryModel::latency;
+  tight.memory.latency_cycles = 10;
+  tight.memory.bytes_per_cycle = 4;  // slower than the triangle tests: streaming stalls
+  const int n = 24;
+  test::Run b = test::simulate_scene<float>(scene, tight, {0, 0}, n, n);
+  const SceneGeometry<float> g = build_geometry<float>(scene, b.spheres);
+  CHECK(b.job.images.at(0) == render_reference(scene, g, 0, n, n).image);
+  const auto expect = replay_busy(scene, g, b.job.assignment, tight.costs, 0, n, n);
+  const FrameStats& fb = b.job.results.at(0);
+  std::uint64_t stall = 0, most = 0;
+  for (std::size_t u = 0; u < fb.units.size(); ++u) {
+    CHECK(fb.units[u].cycles.sphere == expect[u].sphere);  // contention changes time, not work
+    CHECK(fb.units[u].cycles.transform == expect[u].transform);
+    CHECK(fb.units[u].cycles.primitive == expect[u].primitive);
+    stall += fb.units[u].cycles.stall;
+    most = std::max(most, fb.units[u].cycles.busy() + fb.units[u].cycles.stall);
+    CHECK(fb.units[u].cycles.busy() + fb.units[u].cycles.stall + fb.units[u].idle == fb.makespan);
+  }
+  CHECK(stall > 0);
+  CHECK(fb.makespan > most);  // rays wait for the bus and for each other too
+  CHECK(fb.bus_busy > 0);
+  // Bus occupancy by hand: each transfer costs 1 arbitration cycle + ceil(bytes / 8).
+  CHECK(fb.bus_busy >= fb.bus_transfers * 2);
+}
