@@ -1,5 +1,6 @@
 #include "scene/load.h"
 
+#include "scene/aff.h"
 #include "scene/error.h"
 
 #include <algorithm>
@@ -12,7 +13,8 @@ Scene load_scene(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (!std::filesystem::exists(path)) throw InputError(path, "", "no such file");
   if (ext == ".json") return load_oprt_json(path);
-  throw InputError(path, "", "unknown scene format \"" + ext + "\" (expected .json)");
+  if (ext == ".aff") return load_aff(path);
+  throw InputError(path, "", "unknown scene format \"" + ext + "\" (expected .json or .aff)");
 }
 
 void validate_scene(const Scene& s) {

@@ -1,0 +1,495 @@
+#include "scene/aff.h"
+#include "scene/error.h"
+#include "scene/kb_spline.h"
+#include "scene/load.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+using namespace oprt;
+
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kData = std::string(OPRT_SOURCE_DIR) + "/tests/data/aff/";
+const std::string kBart = std::string(OPRT_SHARED_DIR) + "/bart/";
+constexpr double kPi = 3.14159265358979323846;
+
+// A scratch directory for generated AFF files, removed afterwards.
+struct TempDir {
+  fs::path dir;
+  TempDir() {
+    dir = fs::temp_directory_path() / ("oprt_aff_test_" + std::to_string(::rand()) + "_" + std::to_string(::rand()));
+    fs::create_directories(dir);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  std::string write(const std::string& name, const std::string& text) const {
+    const fs::path p = dir / name;
+    fs::create_directories(p.parent_path());
+    std::ofstream(p) << text;
+    return p.lexically_normal().string();
+  }
+};
+
+const char* kView = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 45 hither 0.1 resolution 8 8\n";
+const char* kTri = "p 3\n0 0 0\n1 0 0\n0 1 0\n";
+
+const Object& named(const Scene& s, const std::string& name) {
+  for (const Object& o : s.objects)
+    if (o.name == name) return o;
+  FAIL("no object named " << name);
+  throw std::logic_error("unreachable");
+}
+
+bool has_note(const Scene& s, const std::string& part) {
+  return std::any_of(s.notes.begin(), s.notes.end(), [&](const std::string& n) { return n.find(part) != std::string::npos; });
+}
+
+// Loading `text` (as bad.aff, beside `extra` files) must fail naming the file, the line and
+// the problem.
+void expect_error(const std::string& text, int line, const std::string& problem,
+                  const std::vector<std::pair<std::string, std::string>>& extra = {}, std::string file = "") {
+  TempDir d;
+  const std::string path = d.write("bad.aff", text);
+  for (const auto& [name, body] : extra) d.write(name, body);
+  const std::string expected_file = file.empty() ? path : (d.dir / file).lexically_normal().string();
+  try {
+    load_scene(path);
+    FAIL("no error for:\n" << text);
+  } catch (const InputError& e) {
+    INFO(e.what());
+    CHECK(e.file() == expected_file);
+    CHECK(e.place() == "line " + std::to_string(line));
+    CHECK(e.problem().find(problem) != std::string::npos);
+  }
+}
+
+Vec3d rot_z(const Vec3d& v, double deg) {
+  const double a = deg * kPi / 180;
+  return {v.x * std::cos(a) - v.y * std::sin(a), v.x * std::sin(a) + v.y * std::cos(a), v.z};
+}
+}  // namespace
+
+// ----------------------------------------------------------------------------------------
+// Kochanek-Bartels splines against values worked out by hand
+
+TEST_CASE("kb: zero tension continuity and bias with even keys is Catmull-Rom", "[aff][kb]") {
+  // P = 0 1 2 4 at t = 0 1 2 3. Catmull-Rom on the middle segment:
+  // P(u) = ((2 P1) + (P2 - P0) u + (2 P0 - 5 P1 + 4 P2 - P3) u^2 + (-P0 + 3 P1 - 3 P2 + P3) u^3) / 2
+  //      = (2 + 2u - u^2 + u^3) / 2.
+  const KbVecSpline s({{0, {0, 0, 0}, {}}, {1, {1, 10, 0}, {}}, {2, {2, 20, 0}, {}}, {3, {4, 40, 0}, {}}});
+  CHECK(s.start() == 1);
+  CHECK(s.end() == 2);
+  CHECK(s.at(1).x == Approx(1));
+  CHECK(s.at(2).x == Approx(2));
+  CHECK(s.at(1.5).x == Approx(1.4375));     // (-P0 + 9 P1 + 9 P2 - P3) / 16 = 23 / 16
+  CHECK(s.at(1.25).x == Approx(1.2265625));  // (2 + 0.5 - 0.0625 + 0.015625) / 2
+  CHECK(s.at(1.75).x == Approx(1.6796875));  // (2 + 1.5 - 0.5625 + 0.421875) / 2
+  CHECK(s.at(1.5).y == Approx(14.375));      // each coordinate on its own
+  // Outside the middle segment the curve holds its end keys (the outer keys only shape it).
+  CHECK(s.at(0).x == Approx(1));
+  CHECK(s.at(-100).x == Approx(1));
+  CHECK(s.at(3).x == Approx(2));
+  CHECK(s.at(1e9).x == Approx(2));
+}
+
+TEST_CASE("kb: uneven key spacing rescales the tangents", "[aff][kb]") {
+  // P = t at t = -1 0 4 5: with tangents rescaled by 2 (t2 - t1) / (t2 - t0) = 1.6 and
+  // 2 (t2 - t1) / (t3 - t1) = 1.6, Tout = 0.8 (1 + 4) = 4 = Tin = D: exactly linear.
+  const KbVecSpline s({{-1, {-1, 0, 0}, {}}, {0, {0, 0, 0}, {}}, {4, {4, 0, 0}, {}}, {5, {5, 0, 0}, {}}});
+  for (double t : {0.0, 0.5, 1.0, 2.0, 3.3, 4.0}) CHECK(s.at(t).x == Approx(t).margin(1e-12));
+}
+
+TEST_CASE("kb: tension continuity and bias", "[aff][kb]") {
+  const std::vector<double> p = {0, 1, 2, 4};
+  auto spline = [&](KbParams k1, KbParams k2) {
+    return KbVecSpline({{0, {p[0], 0, 0}, {}}, {1, {p[1], 0, 0}, k1}, {2, {p[2], 0, 0}, k2}, {3, {p[3], 0, 0}, {}}});
+  };
+  // Tension 1: zero tangents, P(u) = P1 + (3u^2 - 2u^3) D; at u = 0.25: 1 + 0.15625.
+  CHECK(spline({1, 0, 0}, {1, 0, 0}).at(1.25).x == Approx(1.15625));
+  // Bias 1 at both keys: Tout = (P1 - P0) = 1, Tin = (P2 - P1) = 1: P(u) = 1 + u.
+  CHECK(spline({0, 0, 1}, {0, 0, 1}).at(1.5).x == Approx(1.5));
+  // Bias -1: Tout = P2 - P1 = 1, Tin = P3 - P2 = 2: c2 = 3 - 2 - 2 = -1, c3 = -2 + 1 + 2 = 1;
+  // at u = 0.5: 1 + 0.5 - 0.25 + 0.125.
+  CHECK(spline({0, 0, -1}, {0, 0, -1}).at(1.5).x == Approx(1.375));
+  // Continuity -1: Tout = P2 - P1 = 1 (out1 = 1), Tin = P2 - P1 = 1 (in0 = 1): linear.
+  CHECK(spline({0, -1, 0}, {0, -1, 0}).at(1.5).x == Approx(1.5));
+}
+
+TEST_CASE("kb: keys at the same time make a jump and never a NaN", "[aff][kb]") {
+  // Keys 2 and 3 share t = 2 (the kitchen's wheels have such pairs): the segment between
+  // them is never entered, the curve reaches 2 at t -> 2 and continues from 5.
+  const KbVecSpline s({{0, {0, 0, 0}, {}},
+                       {1, {1, 0, 0}, {}},
+                       {2, {2, 0, 0}, {}},
+                       {2, {5, 0, 0}, {}},
+                       {3, {6, 0, 0}, {}},
+                       {4, {7, 0, 0}, {}}});
+  CHECK(s.at(1).x == Approx(1));
+  CHECK(s.at(2 - 1e-9).x == Approx(2));
+  CHECK(s.at(2).x == Approx(5));  // at the shared time the later key holds, as in BART
+  CHECK(s.at(3).x == Approx(6));
+  for (double t = 0; t <= 4; t += 0.125) CHECK(std::isfinite(s.at(t).x));
+  CHECK_THROWS_AS(KbVecSpline({{0, {}, {}}, {1, {}, {}}, {2, {}, {}}}), std::invalid_argument);
+  CHECK_THROWS_AS(KbVecSpline({{0, {}, {}}, {2, {}, {}}, {1, {}, {}}, {3, {}, {}}}), std::invalid_argument);
+}
+
+TEST_CASE("kb: rotation at a constant rate about one axis interpolates the angle", "[aff][kb]") {
+  // Equal steps about one axis: the tangents equal the step, so a = q1 and b = q2 and squad
+  // is the slerp: 90 + 90 u degrees. The angles go past 360 (the kitchen's wheels do).
+  const KbRotSpline s({{0, {0, 0, 2}, 180, {}}, {1, {0, 0, 2}, 270, {}}, {2, {0, 0, 2}, 360, {}},
+                       {3, {0, 0, 2}, 450, {}}});
+  const Vec3d x(1, 0, 0);
+  for (double u : {0.0, 0.25, 0.5, 0.9, 1.0}) {
+    const Vec3d r = rotation_matrix(s.at(1 + u)).vector(x);
+    const Vec3d e = rot_z(x, 270 + 90 * u);
+    CHECK(r.x == Approx(e.x).margin(1e-12));
+    CHECK(r.y == Approx(e.y).margin(1e-12));
+    CHECK(r.z == Approx(0).margin(1e-12));
+  }
+  CHECK(rotation_matrix(s.at(-5)).vector(x).y == Approx(-1));  // held at 270 degrees
+}
+
+TEST_CASE("kb: quaternion log and exp invert each other", "[aff][kb]") {
+  const Quatd q = glm::normalize(Quatd(0.3, -0.5, 0.7, 0.2));
+  const Quatd r = quat_exp(quat_log(q));
+  CHECK(r.w == Approx(q.w));
+  CHECK(r.x == Approx(q.x));
+  CHECK(r.y == Approx(q.y));
+  CHECK(r.z == Approx(q.z));
+  const Quatd id = quat_exp(quat_log(Quatd(1, 0, 0, 0)));
+  CHECK(id.w == 1);
+}
+
+// ----------------------------------------------------------------------------------------
+// Small handwritten scenes
+
+TEST_CASE("aff: a keyframe track moves its object by the hand-computed values", "[aff]") {
+  const Scene s = load_scene(kData + "spline.aff");
+  CHECK(s.width == 32);
+  CHECK(s.height == 24);
+  CHECK(s.frame_count == 3);
+  CHECK(s.background.z == 0.3);
+  REQUIRE(s.lights.size() == 2);
+  CHECK(s.lights[0].color == Vec3d(1));
+  CHECK(s.lights[1].color == Vec3d(0.5, 0.25, 1));
+  REQUIRE(s.objects.size() == 1);
+  const Object& o = s.objects[0];
+  CHECK(o.name == "mover/m0");
+  REQUIRE(s.materials.size() == 1);
+  CHECK(s.materials[0].diffuse == Vec3d(0.5));
+  CHECK(s.materials[0].specular == Vec3d(0.2));
+  CHECK(s.materials[0].shininess == 16);
+  CHECK(s.ambient.x == Approx(0.1));  // am 0.5 x (ambient / diffuse = 0.2)
+  CHECK(o.motion->animated());
+  // `a 1 2 3`: frames 0 1 2 are times 1 1.5 2; frame 0.5 is time 1.25.
+  struct Expect {
+    double frame, x, deg;
+  };
+  for (const Expect& e : {Expect{0, 1, 90}, Expect{1, 1.4375, 135}, Expect{2, 2, 180}, Expect{0.5, 1.2265625, 112.5}}) {
+    INFO("frame " << e.frame);
+    const Affine<double> m = o.motion->at(e.frame);
+    const Vec3d p = m.point({1, 0, 0});
+    const Vec3d want = Vec3d(e.x, 0, 0) + rot_z({1, 0, 0}, e.deg);
+    CHECK(p.x == Approx(want.x).margin(1e-12));
+    CHECK(p.y == Approx(want.y).margin(1e-12));
+    CHECK(p.z == Approx(0).margin(1e-12));
+  }
+}
+
+TEST_CASE("aff: every construct loads with its known contents", "[aff]") {
+  const Scene s = load_scene(kData + "features.aff");
+  CHECK(s.frame_count == 5);
+  CHECK(s.width == 64);
+  REQUIRE(s.objects.size() == 5);
+  CHECK(s.triangle_count() == 2 + 277 + 1 + 1 + 2);
+
+  // Static geometry lands in world coordinates: (0,0,0) -> +(0,1,0) -> x2 -> 90 deg about z
+  // -> +(10,0,0) = (8, 0, 0).
+  const Object& red = named(s, "static/m0");
+  CHECK_FALSE(red.motion->animated());
+  CHECK(red.mesh.triangles.size() == 2);
+  const Vec3d v0 = red.motion->at(0).point(red.mesh.vertices[red.mesh.triangles[0][0]]);
+  CHECK(v0.x == Approx(8));
+  CHECK(v0.y == Approx(0).margin(1e-12));
+  CHECK(s.materials[red.material].diffuse == Vec3d(0.8, 0, 0));  // f: Kd x colour
+  CHECK(s.materials[red.material].specular == Vec3d(0.2));       // f: Ks x white
+  CHECK(s.materials[red.material].shininess == 10);
+
+  CHECK(named(s, "static/m1").mesh.triangles.size() == 277);  // tt ttp pp m s c c
+
+  // outer: x = t. inner: 22.5 t degrees about y, after +5 along x, inside outer.
+  const Object& outer = named(s, "outer/m2");
+  const Object& inner = named(s, "outer/inner/m2");
+  CHECK(outer.motion->at(1).point({0, 0, 0}).x == Approx(1));
+  CHECK(outer.motion->at(2.5).point({0, 0, 0}).x == Approx(2.5));
+  for (double f : {0.0, 1.0, 3.0}) {
+    const double a = 22.5 * f * kPi / 180;
+    const Vec3d p = inner.motion->at(f).point({1, 0, 0});
+    CHECK(p.x == Approx(f + 5 + std::cos(a)));
+    CHECK(p.y == Approx(0).margin(1e-12));
+    CHECK(p.z == Approx(-std::sin(a)).margin(1e-12));
+  }
+
+  // tpa: linear between keys, held outside; the mesh is the frame-0 shape.
+  const Object& tpa = named(s, "static/m3/tpa");
+  REQUIRE(tpa.deform);
+  REQUIRE(tpa.mesh.vertices.size() == 6);
+  CHECK(tpa.mesh.triangles.size() == 2);
+  std::vector<Vec3d> v;
+  for (double f : {0.0, 1.0, 2.0, 2.5, 3.0, 4.0}) {
+    tpa.deform->at(f, v);
+    REQUIRE(v.size() == 6);
+    const double z = std::clamp(2 * (f - 1), 0.0, 4.0);
+    CHECK(v[0].z == Approx(z));
+    CHECK(v[1] == Vec3d(1, 0, z));
+    CHECK(v[3] == Vec3d(5, 5, 5));  // one key: never moves
+  }
+  tpa.deform->at(0, v);
+  CHECK(v == tpa.mesh.vertices);
+
+  // Camera: eye z = 10 + 3.2u + 1.6u^2 - 0.8u^3, u = t / 4; turned 90 degrees at t = 4.
+  const Camera c0 = s.camera->at(0), c2 = s.camera->at(2), c4 = s.camera->at(4);
+  CHECK(c0.eye.z == Approx(10));
+  CHECK(c2.eye.z == Approx(11.9));
+  CHECK(c4.eye.z == Approx(14));
+  const Vec3d d0 = c0.target - c0.eye, d4 = c4.target - c4.eye;
+  CHECK(d0.z == Approx(-1));
+  CHECK(d4.x == Approx(-1));
+  CHECK(d4.z == Approx(0).margin(1e-12));
+  CHECK(c4.up.y == Approx(1));
+  CHECK(c0.fov_y_deg == 40);
+
+  // The animated light stays at its frame-0 position (the translation's first key).
+  REQUIRE(s.lights.size() == 1);
+  CHECK(s.lights[0].position == Vec3d(3, 3, 3));
+
+  CHECK(has_note(s, "textures ignored"));
+  CHECK(has_note(s, "vertex normals ignored"));
+  CHECK(has_note(s, "spheres tessellated: 224 triangles"));
+  CHECK(has_note(s, "cones tessellated"));
+  CHECK(has_note(s, "visibility keyframes of 'inner' ignored"));
+  CHECK(has_note(s, "animated light 'lamp'"));
+  CHECK(std::count_if(s.notes.begin(), s.notes.end(),
+                      [](const std::string& n) { return n.find("textures") != std::string::npos; }) == 1);
+}
+
+TEST_CASE("aff: includes resolve relative to the including file", "[aff]") {
+  const Scene s = load_scene(kData + "include/root.aff");
+  REQUIRE(s.objects.size() == 1);
+  const Mesh& m = s.objects[0].mesh;
+  REQUIRE(m.triangles.size() == 4);  // root, a, b, c; the level-1 include is skipped
+  std::vector<double> z;
+  for (const Tri& t : m.triangles) z.push_back(m.vertices[t[0]].z);
+  std::sort(z.begin(), z.end());
+  CHECK(z == std::vector<double>{0, 1, 2, 3});
+  CHECK(has_note(s, "detail level above 0 skipped"));
+}
+
+TEST_CASE("aff: large groups split into spatially separate parts", "[aff]") {
+  // 100 triangles along x, at most 16 per object: median splits give 8 parts of 12 or 13
+  // whose x ranges do not overlap.
+  TempDir d;
+  std::string text = std::string(kView) + "fm 0 0 0 1 1 1 0 0 0 0 0 0\n";
+  for (int i = 0; i < 100; ++i) {
+    const std::string x = std::to_string((i * 37) % 100);  // shuffled order in the file
+    text += "p 3\n" + x + " 0 0\n" + x + ".5 0 0\n" + x + " 1 0\n";
+  }
+  AffOptions opt;
+  opt.max_object_triangles = 16;
+  const Scene s = load_aff(d.write("many.aff", text), opt);
+  REQUIRE(s.objects.size() == 8);
+  CHECK(s.triangle_count() == 100);
+  std::vector<std::pair<double, double>> ranges;
+  for (const Object& o : s.objects) {
+    CHECK(o.mesh.triangles.size() <= 16);
+    CHECK(o.mesh.vertices.size() == 3 * o.mesh.triangles.size());  // only the vertices it uses
+    double lo = 1e9, hi = -1e9;
+    for (const Vec3d& v : o.mesh.vertices) {
+      lo = std::min(lo, v.x);
+      hi = std::max(hi, v.x);
+    }
+    ranges.push_back({lo, hi});
+  }
+  std::sort(ranges.begin(), ranges.end());
+  for (std::size_t i = 1; i < ranges.size(); ++i) CHECK(ranges[i - 1].second < ranges[i].first);
+  opt.max_object_triangles = 0;  // never split
+  CHECK(load_aff(d.write("many2.aff", text), opt).objects.size() == 1);
+}
+
+TEST_CASE("aff: malformed files name the file and the line and the problem", "[aff]") {
+  const std::string v = kView;  // line 1
+  expect_error(v + "zz 1 2\n", 2, "unknown keyword 'zz'");
+  expect_error(v + "b 1 2\nl 0 0 0\n", 3, "wrong number of values for 'b' at line 2");
+  expect_error(v + "b 1 2 3 4\n", 2, "wrong number of values: unexpected number '4' after 'b'");
+  expect_error(v + "b 1 q 2\n", 2, "'q' is not a number");
+  expect_error(v + "b 1 x 2\n", 2, "wrong number of values for 'b' at line 2");
+  expect_error(v + "b 1 nan 2\n", 2, "'nan' is not a finite number");
+  expect_error(v + "am inf 1 1\n", 2, "'inf' is not a finite number");
+  expect_error(v + "b 1 1e999 1\n", 2, "not a finite number");
+  expect_error(v + "l 0 0 0 1 1\n", 2, "a light's colour is 3 numbers");
+  expect_error(v + "la\n", 2, "wrong number of values for 'la'");
+  expect_error(v + "f 1 1 1 1 1\ns 0 0 0 1\n", 3, "wrong number of values for 'f'");
+  expect_error(v + "fm 1 1 1 1 1 1 1 1 1 -5 0 0\n", 2, "Phong exponent");
+  expect_error(v + "p 2\n0 0 0\n1 0 0\n", 2, "at least 3 vertices");
+  expect_error(v + "p 3.5\n", 2, "'3.5' is not an integer");
+  expect_error(v + "pp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0\n", 2, "vertex count 3 needs 18 values");
+  expect_error(v + "pp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0\np 3\n0 0 0\n", 6, "wrong number of values for 'pp'");
+  expect_error(v + "tt\n", 2, "expected a texture name");
+  expect_error(v + "ttp tex\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 0\n", 4, "found the end of the file");
+  expect_error(v + "m\nvertices 3\n0 0 0\n1 0 0\n0 1 0\ntriangles 1\n0 1 3\n", 8,
+               "vertex index 3 of triangle 0 out of range: the mesh has 3 vertices");
+  expect_error(v + "m\nvertices 3\n0 0 0\n1 0 0\n0 1 0\ntriangles 1\n0 1 -1\n", 8, "vertex index -1");
+  expect_error(v + "m\nvertices 1\n0 0 0\nnormals 1\n0 0 1\ntriangles 1\n0 0 0  0 0 1\n", 8, "normal index 1");
+  expect_error(v + "m\nvertices 3\n0 0 0\n1 0 0\n0 1 0\nfaces 1\n0 1 2\n", 7, "expected 'triangles', found 'faces'");
+  expect_error(v + "m\nvertices 100000000\n0 0 0\n", 3, "needs 300000000 values");
+  expect_error(v + "m\ntriangles 1\n", 3, "expected 'vertices', found 'triangles'");
+  expect_error(v + "tpa 2\n1\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n", 7,
+               "key times must not decrease");
+  expect_error(v + "tpa 0\n", 2, "at least one key");
+  expect_error(v + "s 0 0 0 0\n", 2, "sphere radius must not be zero");
+  expect_error(v + "c 0 0 0 1 0 0 0 1\n", 2, "base and apex coincide");
+  expect_error(v + "xs 0 1 1 0 1 0 0 0 0 0\n{\n}\n", 2, "static transform");
+  expect_error(v + "xs 1 1 1 0 1 0 0 0 0 0\n{\n" + kTri, 3, "unterminated '{'");
+  expect_error(v + "}\n", 2, "'}' without a matching '{'");
+  expect_error(v + "{\n", 2, "unexpected '{'");
+  expect_error(v + "x name\np 3\n", 3, "expected '{' after 'x' at line 2, found 'p'");
+  expect_error(v + "a 0 1 0\n", 2, "number of frames 0 is out of range");
+  expect_error(v + "d q\n", 2, "'q' is not a number");
+  expect_error(v + "i 0 nothere.aff\n", 2, "cannot open included file 'nothere.aff'");
+  expect_error(v + "k car\n{\ntransl 3\n0 0 0 0 0 0 0\n1 0 0 0 0 0 0\n2 0 0 0 0 0 0\n}\n", 4, "at least 4 keyframes");
+  expect_error(v + "k car\n{\nspin 4\n}\n", 4, "unknown keyframe type 'spin'");
+  expect_error(v + "k car\n{\nscale 4\n0 1 1 1 0 0 0\n2 1 1 1 0 0 0\n1 1 1 1 0 0 0\n3 1 1 1 0 0 0\n}\n", 7,
+               "keyframe times must not decrease");
+  expect_error(v + "k car\n{\nrot 4\n0 0 0 0 5 0 0 0\n1 0 1 0 0 0 0 0\n2 0 1 0 0 0 0 0\n3 0 1 0 0 0 0 0\n}\n", 5,
+               "rotation axis is zero");
+  expect_error(v + "k car\n{\nvisibility 1\n0 2\n}\n", 5, "visibility flag must be 0 or 1");
+  expect_error(v + "k car\n{\nvisibility 1\n0 1\n", 3, "unterminated '{' of 'k car'");
+  expect_error(v + "k car\n{\nvisibility 1\n0 1\nvisibility 1\n0 1\n}\n", 6, "gives 'visibility' twice");
+  expect_error(v + "k car\n{\nvisibility 1\n0 1\n}\nk car\n{\nvisibility 1\n0 1\n}\n", 7, "already given");
+  expect_error("v from 0 0 5 at 0 0 0 up 0 1 0 angle 45 resolution 8 8\np 3\n", 2, "is missing 'hither'");
+  expect_error("v from 0 0 5 at 0 0 5 up 0 1 0 angle 45 hither 1 resolution 8 8\n", 1, "'from' and 'at' coincide");
+  expect_error("v from 0 0 5 at 0 0 0 up 0 1 0 angle 0 hither 1 resolution 8 8\n", 1, "view angle");
+  expect_error("5\n", 1, "unexpected number '5'");
+  std::string deep = v;
+  for (int i = 0; i < 1001; ++i) deep += "x a {\n";
+  expect_error(deep, 1002, "blocks nested more than 1000 deep");
+  // Problems inside an included file name that file.
+  expect_error(v + "i 0 sub/part.aff\n", 6, "unknown keyword 'q'", {{"sub/part.aff", std::string(kTri) + "\nq\n"}},
+               "sub/part.aff");
+  expect_error(v + "i 0 sub/part.aff\n", 1, "'}' without a matching '{'",
+               {{"sub/part.aff", "}\n"}}, "sub/part.aff");
+}
+
+TEST_CASE("aff: scenes without a view or objects fail", "[aff]") {
+  TempDir d;
+  const std::string no_view = d.write("nv.aff", kTri);
+  try {
+    load_scene(no_view);
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(e.problem().find("no view") != std::string::npos);
+  }
+  CHECK_THROWS_AS(load_scene(d.write("empty.aff", kView)), InputError);
+}
+
+TEST_CASE("aff: an include cycle is an error and not a hang", "[aff]") {
+  expect_error(std::string(kView) + "i 0 a.aff\n", 1, "include cycle: bad.aff -> a.aff -> b.aff -> a.aff",
+               {{"a.aff", "i 0 b.aff\n"}, {"b.aff", "i 0 a.aff\n"}}, "b.aff");
+  expect_error(std::string(kView) + "i 0 bad.aff\n", 2, "include cycle");
+}
+
+TEST_CASE("aff: every truncation of a valid file loads or fails cleanly", "[aff]") {
+  std::ifstream in(kData + "features.aff");
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  REQUIRE(lines.size() > 100);
+  TempDir d;
+  int ok = 0, failed = 0;
+  for (std::size_t n = 0; n <= lines.size(); ++n) {
+    std::string text;
+    for (std::size_t i = 0; i < n; ++i) text += lines[i] + "\n";
+    try {
+      load_scene(d.write("cut" + std::to_string(n) + ".aff", text));
+      ++ok;
+    } catch (const InputError&) {
+      ++failed;
+    }
+  }
+  CHECK(ok > 0);
+  CHECK(failed > 0);
+}
+
+// ----------------------------------------------------------------------------------------
+// The real BART scenes (from ../shared; CI always has them)
+
+TEST_CASE("aff: BART kitchen loads with its 110561 triangles and a moving toy car", "[aff][bart]") {
+  const std::string path = kBart + "kitchen/kitchen.aff";
+  INFO("BART kitchen expected at " << path);
+  REQUIRE(fs::exists(path));
+  const Scene s = load_scene(path);
+  CHECK(s.triangle_count() == 110561);
+  CHECK(s.frame_count == 800);
+  CHECK(s.width == 800);
+  CHECK(s.height == 600);
+  CHECK(s.lights.size() == 6);
+  for (const Object& o : s.objects) CHECK(o.mesh.triangles.size() <= 4096);
+
+  // The car body: until t = 3 the car holds its first key (4.45, 0, 2.75), turned 180
+  // degrees about y; frame 400 is t = 400 x 20 / 799 = 10.01, on its way.
+  const Object& car = named(s, "toycar/m10");
+  CHECK(car.motion->animated());
+  const Affine<double> m0 = car.motion->at(0), m400 = car.motion->at(400);
+  CHECK(m0.translation().x == Approx(4.45));
+  CHECK(m0.translation().z == Approx(2.75));
+  CHECK(m0.m[0][0] == Approx(-1));
+  const Vec3d p = car.mesh.vertices[0];
+  const Vec3d w0 = m0.point(p), w400 = m400.point(p);
+  CHECK(glm::length(w400 - w0) > 0.5);
+  CHECK(w400.x > 2.5);  // between the keys at t = 9.8 (2.70, 0, 0.55) and 12 (2.60, 0, 1.50)
+  CHECK(w400.x < 2.8);
+
+  // A rear wheel turns relative to the car between two frames.
+  const Object& wheel = named(s, "toycar/rotating_wheel_left/m24");
+  const Affine<double> inv0 = *inverse(car.motion->at(200)), inv1 = *inverse(car.motion->at(201));
+  const Vec3d q = wheel.mesh.vertices[0];
+  const Vec3d r0 = inv0.point(wheel.motion->at(200).point(q));
+  const Vec3d r1 = inv1.point(wheel.motion->at(201).point(q));
+  CHECK(glm::length(r1 - r0) > 1e-6);
+
+  const Camera c0 = s.camera->at(0), c400 = s.camera->at(400);
+  CHECK(c0.eye.x == Approx(3.75));  // the camera's key at t = 0
+  CHECK(glm::length(c400.eye - c0.eye) > 0.5);
+}
+
+TEST_CASE("aff: BART museum loads its 1024 flying triangles which move", "[aff][bart]") {
+  const std::string path = kBart + "museum/museum5.aff";
+  INFO("BART museum expected at " << path);
+  REQUIRE(fs::exists(path));
+  const Scene s = load_scene(path);
+  CHECK(s.frame_count == 300);
+  std::size_t flying = 0;
+  for (const Object& o : s.objects) {
+    if (!o.deform) continue;
+    flying += o.mesh.triangles.size();
+    std::vector<Vec3d> a, b;
+    o.deform->at(0, a);
+    o.deform->at(150, b);  // t = -1 + 150 x 6 / 299 = 2.01
+    REQUIRE(a.size() == o.mesh.vertices.size());
+    REQUIRE(b.size() == a.size());
+    CHECK(a == o.mesh.vertices);
+    std::size_t moved = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) moved += glm::length(b[i] - a[i]) > 1e-3;
+    CHECK(moved == a.size());
+  }
+  CHECK(flying == 1024);
+  CHECK(s.triangle_count() > 10000);
+}
