@@ -12,7 +12,8 @@ Scene load_scene(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (!std::filesystem::exists(path)) throw InputError(path, "", "no such file");
   if (ext == ".json") return load_oprt_json(path);
-  throw InputError(path, "", "unknown scene format \"" + ext + "\" (expected .json)");
+  if (ext == ".gltf" || ext == ".glb") return load_gltf(path);
+  throw InputError(path, "", "unknown scene format \"" + ext + "\" (expected .json, .gltf or .glb)");
 }
 
 void validate_scene(const Scene& s) {
