@@ -242,7 +242,11 @@ class GltfReader {
   std::vector<GltfLocal> chain(std::size_t node);
   // A mesh's triangles, one group per material in order of first use (read once per mesh,
   // however many nodes instance it).
-  struct Group { std::uint32_t material; Mesh mesh; };
+  struct Group {
+    std::uint32_t material;
+    Mesh mesh;
+    std::map<std::size_t, std::vector<std::uint32_t>> remap;  // POSITION accessor -> mesh vertex
+  };
   const std::vector<Group>& mesh_groups(std::size_t mesh);
   void add_mesh_objects(std::size_t node, Scene& s);
   void add_camera(std::size_t node, Scene& s);
@@ -714,8 +718,10 @@ const std::vector<GltfReader::Group>& GltfReader::mesh_groups(std::size_t mi) {
     }
     auto g = std::find_if(groups.begin(), groups.end(), [&](const Group& x) { return x.material == material; });
     if (g == groups.end()) g = groups.insert(groups.end(), Group{material, {}});
-    // Only the vertices the triangles use join the object (they decide its bounding sphere).
-    std::vector<std::uint32_t> remap(nverts, kNone);
+    // Only the vertices the triangles use join the object (they decide its bounding sphere);
+    // primitives sharing a POSITION accessor share their vertices.
+    std::vector<std::uint32_t>& remap = g->remap[pa];
+    remap.resize(nverts, kNone);
     for (const Tri& t : tris) {
       Tri out;
       for (int k = 0; k < 3; ++k) {
