@@ -5,7 +5,7 @@
 // oprt loader error must name the place (/accessors/3). What tinygltf would add beyond the
 // JSON -- the GLB container, base64 data URIs, external .bin files -- is a few dozen lines.
 //
-// What becomes what (docs/scene-format.md repeats this for users):
+// What becomes what (docs/gltf.md repeats this for users):
 // - Scene: the document's "scene", else scenes[0]; a file without scenes uses every root node.
 // - Objects: each node with a mesh, one Object per material used by its primitives (the
 //   primitives of one material merged), in the node's local coordinates; its motion is the
@@ -717,7 +717,7 @@ const std::vector<GltfReader::Group>& GltfReader::mesh_groups(std::size_t mi) {
       material = default_material_;
     }
     auto g = std::find_if(groups.begin(), groups.end(), [&](const Group& x) { return x.material == material; });
-    if (g == groups.end()) g = groups.insert(groups.end(), Group{material, {}});
+    if (g == groups.end()) g = groups.insert(groups.end(), Group{material, {}, {}});
     // Only the vertices the triangles use join the object (they decide its bounding sphere);
     // primitives sharing a POSITION accessor share their vertices.
     std::vector<std::uint32_t>& remap = g->remap[pa];

@@ -493,3 +493,14 @@ TEST_CASE("gltf: two channels on one property: the first wins", "[gltf]") {
   check_point(at(object(s, "spinner"), 15, {0, 0, 0}), {1, -2, 0});
   CHECK(has_note(s, "/animations/2/channels/0 drives the translation of node 3 already driven by /animations/0/channels/0"));
 }
+
+TEST_CASE("gltf: an external buffer file is found beside the scene", "[gltf]") {
+  json d = base_doc();
+  TempFile bin(buffer_bytes(d), " data.bin");  // a space: the URI spells it %20
+  const std::string name = std::filesystem::path(bin.path).filename().string();
+  d["buffers"][0]["uri"] = name.substr(0, name.find(' ')) + "%20data.bin";
+  const Scene s = load_doc(d);
+  CHECK(s.objects.size() == 6);
+  d["buffers"][0]["uri"] = "http://example.com/data.bin";
+  expect_error_text(d.dump(), ".gltf", "/buffers/0/uri", "only relative file paths and data URIs");
+}
