@@ -26,23 +26,60 @@ std::string describe(double x) {
 }
 }  // namespace
 
+namespace {
+// A byte offset (0-based) as "line L, column C".
+std::string line_column(const std::string& text, std::size_t byte) {
+  std::size_t line = 1, col = 1;
+  const std::size_t end = std::min(byte, text.size());
+  for (std::size_t i = 0; i < end; ++i) {
+    if (text[i] == '\n') ++line, col = 1;
+    else ++col;
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(col);
+}
+
+// Finds where a document fails (nlohmann reports a number too large for a double, 1e999, as
+// out_of_range without a position; its SAX interface has the position).
+struct ErrorPosition final : nlohmann::json_sax<nlohmann::json> {
+  std::size_t byte = 0;
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception&) override {
+    byte = position;
+    return false;
+  }
+};
+}  // namespace
+
 nlohmann::json JsonIn::parse_text(const std::string& text, const std::string& file) {
   try {
     // Comments are not JSON; NaN and Infinity are not JSON either, and the parser rejects them.
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
-    // e.byte is 1-based; turn it into line:column.
-    std::size_t line = 1, col = 1;
-    const std::size_t end = std::min<std::size_t>(e.byte ? e.byte - 1 : 0, text.size());
-    for (std::size_t i = 0; i < end; ++i) {
-      if (text[i] == '\n') ++line, col = 1;
-      else ++col;
-    }
+    // e.byte is 1-based.
     std::string what = e.what();
     const auto colon = what.find("parse error");
     if (colon != std::string::npos) what = what.substr(colon);
-    throw InputError(file, "line " + std::to_string(line) + ", column " + std::to_string(col),
-                     "malformed JSON: " + what);
+    throw InputError(file, line_column(text, e.byte ? e.byte - 1 : 0), "malformed JSON: " + what);
+  } catch (const nlohmann::json::out_of_range& e) {
+    // A number beyond the range of a double, such as 1e999 (the only way to write infinity).
+    ErrorPosition where;
+    nlohmann::json::sax_parse(text, &where);
+    std::string what = e.what();
+    const auto bracket = what.find("] ");
+    if (bracket != std::string::npos) what = what.substr(bracket + 2);
+    throw InputError(file, line_column(text, where.byte ? where.byte - 1 : 0),
+                     "malformed JSON: " + what + " (numbers must be finite)");
   }
 }
 

@@ -14,7 +14,8 @@ Scene load_scene(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path, "", "no such file");
   if (ext == ".json") return load_oprt_json(path);
   if (ext == ".aff") return load_aff(path);
-  throw InputError(path, "", "unknown scene format \"" + ext + "\" (expected .json or .aff)");
+  if (ext == ".gltf" || ext == ".glb") return load_gltf(path);
+  throw InputError(path, "", "unknown scene format \"" + ext + "\" (expected .json, .aff, .gltf or .glb)");
 }
 
 void validate_scene(const Scene& s) {

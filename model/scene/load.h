@@ -10,6 +10,8 @@ namespace oprt {
 
 Scene load_scene(const std::string& path);
 Scene load_oprt_json(const std::string& path);
+// glTF 2.0 rigid node animation; load_gltf.cpp says what maps to what.
+Scene load_gltf(const std::string& path);
 Mesh load_obj(const std::string& path);
 
 // Checks shared by every loader: at least one object, every object with triangles, indices
