@@ -1,5 +1,7 @@
 #include "testbench.h"
 
+#include "gtkwave.h"
+
 #include "ref/frame_setup.h"
 
 #include <cstdio>
@@ -94,7 +96,14 @@ class Testbench : public sc_module {
       ++job_.completed;
       if (job_.write_files) report(fs);
     }
-    if (vcd_) vcd_->close(sc_time_stamp().value());
+    if (vcd_) {
+      vcd_->close(sc_time_stamp().value());
+      const auto vcd = std::filesystem::path(job_.vcd_path);
+      std::vector<TraceSignal> signals;
+      for (const auto& [name, width] : vcd_->variables()) signals.push_back({name, width});
+      write_gtkwave_save(job_.vcd_path, (vcd.parent_path() / (vcd.stem().string() + ".gtkw")).string(), signals,
+                         sc_time_stamp().value());
+    }
   }
 
   void report(const FrameStats& fs) {

@@ -41,16 +41,33 @@ int VcdWriter::add(const std::string& scope, const std::string& name, int width)
 void VcdWriter::header() {
   out_.open(tmp_);
   if (!out_) throw std::runtime_error("cannot write " + tmp_);
-  out_ << "$version oprt $end\n$timescale 1ps $end\n$scope module oprt $end\n";
+  out_ << "$version oprt $end\n$timescale 1ps $end\n";
+  // Scopes are dotted SystemC names ("testbench.engine.iu3"): nest them, so that viewers
+  // show the module hierarchy.
   std::map<std::string, std::vector<const Var*>> scopes;
   for (const Var& v : vars_) scopes[v.scope].push_back(&v);
+  std::vector<std::string> open;  // current scope path
+  auto split = [](const std::string& s) {
+    std::vector<std::string> parts;
+    std::size_t b = 0;
+    for (std::size_t e; (e = s.find('.', b)) != std::string::npos; b = e + 1) parts.push_back(s.substr(b, e - b));
+    if (!s.empty()) parts.push_back(s.substr(b));
+    return parts;
+  };
   for (const auto& [scope, vs] : scopes) {
-    if (!scope.empty()) out_ << "$scope module " << scope << " $end\n";
+    const std::vector<std::string> path = split(scope);
+    std::size_t common = 0;
+    while (common < open.size() && common < path.size() && open[common] == path[common]) ++common;
+    for (std::size_t i = open.size(); i > common; --i) out_ << "$upscope $end\n";
+    for (std::size_t i = common; i < path.size(); ++i) out_ << "$scope module " << path[i] << " $end\n";
+    open = path;
     for (const Var* v : vs) out_ << "$var wire " << v->width << " " << v->code << " " << v->name << " $end\n";
-    if (!scope.empty()) out_ << "$upscope $end\n";
   }
-  out_ << "$upscope $end\n$enddefinitions $end\n";
+  for (std::size_t i = open.size(); i > 0; --i) out_ << "$upscope $end\n";
+  out_ << "$enddefinitions $end\n";
   started_ = true;
+  // Every variable starts at 0 (no X in the viewer before its first change).
+  for (std::size_t v = 0; v < vars_.size(); ++v) buffer_.push_back({0, seq_++, static_cast<int>(v), 0});
 }
 
 void VcdWriter::change(int var, std::uint64_t time_ps, std::uint64_t value) {
@@ -85,6 +102,12 @@ void VcdWriter::flush_before(std::uint64_t horizon) {
   std::size_t i = 0;
   for (; i < buffer_.size() && buffer_[i].time < horizon; ++i) write(buffer_[i]);
   buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(i));
+}
+
+std::vector<std::pair<std::string, int>> VcdWriter::variables() const {
+  std::vector<std::pair<std::string, int>> n;
+  for (const Var& v : vars_) n.emplace_back(v.scope.empty() ? v.name : v.scope + "." + v.name, v.width);
+  return n;
 }
 
 void VcdWriter::close(std::uint64_t end_ps) {

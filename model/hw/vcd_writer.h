@@ -25,6 +25,8 @@ class VcdWriter {
   // Write everything, end the dump at end_ps, and move the file into place.
   void close(std::uint64_t end_ps);
   const std::string& path() const { return path_; }
+  // Declared variables as ("scope.name", width), in declaration order.
+  std::vector<std::pair<std::string, int>> variables() const;
 
  private:
   struct Var { std::string scope, name, code; int width; std::uint64_t last = ~0ULL; };
