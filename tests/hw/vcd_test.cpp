@@ -20,7 +20,13 @@ TEST_CASE("the VCD parses and holds one state signal per unit", "[vcd]") {
   test::simulate_scene<float>(scene, arch, {0, 0}, 16, 16, path);
   std::ifstream in(path);
   REQUIRE(in);
-  std::string line, scope;
+  std::string line;
+  std::vector<std::string> scope;  // open $scope names
+  auto scope_name = [&] {
+    std::string n;
+    for (const auto& p : scope) n += (n.empty() ? "" : ".") + p;
+    return n;
+  };
   std::map<std::string, std::string> code_of;  // "scope.name" -> code
   bool defs_done = false, timescale = false;
   std::uint64_t last_time = 0;
@@ -32,13 +38,18 @@ TEST_CASE("the VCD parses and holds one state signal per unit", "[vcd]") {
       w >> tok;
       if (tok == "$timescale") timescale = line.find("1ps") != std::string::npos;
       if (tok == "$scope") {
-        std::string kind;
-        w >> kind >> scope;
+        std::string kind, name;
+        w >> kind >> name;
+        scope.push_back(name);
+      }
+      if (tok == "$upscope") {
+        REQUIRE_FALSE(scope.empty());
+        scope.pop_back();
       }
       if (tok == "$var") {
         std::string type, width, code, name;
         w >> type >> width >> code >> name;
-        code_of[scope + "." + name] = code;
+        code_of[scope_name() + "." + name] = code;
       }
       if (tok == "$enddefinitions") defs_done = true;
       continue;
@@ -61,6 +72,7 @@ TEST_CASE("the VCD parses and holds one state signal per unit", "[vcd]") {
     }
   }
   CHECK(defs_done);
+  CHECK(scope.empty());  // every $scope closed
   CHECK(timescale);
   for (int u = 0; u < 4; ++u) {
     CHECK(code_of.count("testbench.engine.iu" + std::to_string(u) + ".state") == 1);
