@@ -12,6 +12,7 @@ struct CommonOptions {
   std::string out = "out";
   std::string precision = "float";
   int subdivide = 1;
+  bool schedules = false;
 };
 
 int run_info(const CommonOptions& o);

@@ -2,13 +2,25 @@
 #include "balance/spheres.h"
 #include "commands.h"
 #include "geom/bounding_sphere.h"
+#include "hw/cycle_schedule.h"
+#include "ref/frame_setup.h"
+#include "scene/error.h"
 #include "scene/load.h"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace oprt {
 
 int run_info(const CommonOptions& o) {
+  if (o.schedules) {
+    for (const OpGraph* g : {&sphere_textbook_graph(), &sphere_stable_graph(), &transform_graph(), &moller_graph()}) {
+      const Schedule s = list_schedule(*g);
+      std::printf("%s\n", s.table().c_str());
+    }
+    if (o.scene.empty()) return 0;
+  }
+  if (o.scene.empty()) throw InputError("oprt info", "SCENE", "a scene file is required (or --schedules)");
   const Scene scene = load_scene(o.scene);
   const auto spheres = make_spheres(scene, o.subdivide);
   std::printf("scene       %s\n", o.scene.c_str());
@@ -37,6 +49,18 @@ int run_info(const CommonOptions& o) {
   std::printf("\nsum of SA x N  %.6g\n", sum_san);
   std::printf("radii: minimal enclosing spheres (Welzl) sum %.6g; Ritter's approximation would be %.4fx\n",
               sum_r, sum_ritter / sum_r);
+  // What the units hold: the radius enclosing the float-rounded triangles, rounded up, and
+  // at frame 0 the world radius with its rounding margin (ref/frame_setup.cpp).
+  const SceneGeometry<float> g = build_geometry<float>(scene, spheres);
+  const FrameSetup<float> f = setup_frame(scene, g, 0);
+  double worst_local = 1, worst_world = 1;
+  for (std::size_t s = 0; s < spheres.size(); ++s) {
+    worst_local = std::max(worst_local, g.local_sphere[s].r / spheres[s].local.r);
+    const double stretch = max_stretch(f.placement[g.object[s]].to_world);
+    worst_world = std::max(worst_world, f.world_sphere[s].r / (spheres[s].local.r * stretch));
+  }
+  std::printf("radii held by the units / minimal: local (float) at most %.9f, world at frame 0 at most %.9f\n",
+              worst_local, worst_world);
   return 0;
 }
 

@@ -21,7 +21,8 @@ int main(int argc, char** argv) {
     sub->add_option("SCENE", opt.scene, "scene file (.json)")->required();
   };
   auto* info = app.add_subcommand("info", "print the scene, its bounding spheres and their SA x N");
-  add_scene(info);
+  info->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)");
+  info->add_flag("--schedules", opt.schedules, "print the IU operations' cycle schedules");
   info->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
 
   auto* ref = app.add_subcommand("reference", "render with the untimed functional reference");

@@ -24,6 +24,8 @@ class Testbench : public sc_module {
     engine_ = std::make_unique<hw::Engine<T>>("engine", *job.scene, geometry, job.arch, job.assignment.units(),
                                               vcd_.get());
     engine_->assign(job.assignment);
+    if (job.progress)
+      engine_->gpp().on_progress([this](std::uint64_t done, std::uint64_t total) { progress(done, total); });
     if (job.write_files) stats_ = std::make_unique<StatsWriter>(job.out_dir, job.header);
     SC_THREAD(run);
   }
@@ -41,6 +43,7 @@ class Testbench : public sc_module {
   void frames() {
     const sc_time cycle(job_.arch.cycle_ns(), SC_NS);
     for (int f = job_.frames.first; f <= job_.frames.last; ++f) {
+      frame_ = f;
       const auto t0 = std::chrono::steady_clock::now();
       for (std::size_t u = 0; u < engine_->units(); ++u) engine_->unit(u).reset_stats();
       engine_->bus().reset_stats();
@@ -106,6 +109,15 @@ class Testbench : public sc_module {
     }
   }
 
+  void progress(std::uint64_t done, std::uint64_t total) {
+    const int width = 30;
+    const double f = total ? static_cast<double>(done) / total : 0;
+    const int filled = static_cast<int>(f * width);
+    std::fprintf(stderr, "\r\033[Kframe %d of %d:%d  [%s%s] %3.0f%% of primary rays", frame_, job_.frames.first,
+                 job_.frames.last, std::string(filled, '#').c_str(), std::string(width - filled, ' ').c_str(), 100 * f);
+    std::fflush(stderr);
+  }
+
   void report(const FrameStats& fs) {
     if (job_.progress) std::fprintf(stderr, "\r\033[K");
     std::printf("frame %4d  makespan %llu cycles  efficiency %.3f  %llu rays  %.2f s  (%.3g rays/s)\n", fs.frame,
@@ -117,6 +129,7 @@ class Testbench : public sc_module {
 
   RenderJob& job_;
   const SceneGeometry<T>& geometry_;
+  int frame_ = 0;
   std::unique_ptr<VcdWriter> vcd_;
   std::unique_ptr<hw::Engine<T>> engine_;
   std::unique_ptr<StatsWriter> stats_;

@@ -151,6 +151,7 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd, const Shader<T>& 
     img.b[rec.pixel] = static_cast<float>(c.z);
   };
   if (rec.kind == RayKind::primary) {
+    if (progress_ && (++primaries_retired_ & 4095) == 0) progress_(primaries_retired_, pixel_count_);
     if (!pr.hit.valid()) {
       finish(shader.background());
     } else {
@@ -229,6 +230,8 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   completed_.clear();
   shadow_queue_.clear();
   issued_ = retired_ = 0;
+  primaries_retired_ = 0;
+  pixel_count_ = pixels;
 
   const CameraRays camera(cmd.camera, cmd.width, cmd.height);
   const Shader<T> shader(scene_, setup);

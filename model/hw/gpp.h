@@ -20,6 +20,7 @@
 #include "ref/shading.h"
 
 #include <deque>
+#include <functional>
 #include <vector>
 
 #include <systemc>
@@ -60,6 +61,8 @@ class Gpp : public sc_core::sc_module {
   // Spheres per unit, in the units' order; takes effect at the next frame.
   void set_assignment(const std::vector<std::vector<std::uint32_t>>& unit_spheres) { assignment_ = unit_spheres; }
   const GppStats& stats() const { return stats_; }
+  // Called now and then during a frame with (primary rays retired, pixels): for progress bars.
+  void on_progress(std::function<void(std::uint64_t, std::uint64_t)> f) { progress_ = std::move(f); }
 
  private:
   struct Pixel {
@@ -106,6 +109,8 @@ class Gpp : public sc_core::sc_module {
   std::uint64_t issued_ = 0, retired_ = 0;
   unsigned units_ = 0;
   tlm::tlm_generic_payload write_;
+  std::function<void(std::uint64_t, std::uint64_t)> progress_;
+  std::uint64_t primaries_retired_ = 0, pixel_count_ = 0;
   VcdWriter* vcd_;
   int vcd_in_flight_ = -1, vcd_frame_ = -1;
 };
