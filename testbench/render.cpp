@@ -56,6 +56,10 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
                 {"units", units},
                 {"resolution", {job.width, job.height}},
                 {"arch", to_json(job.arch)}};
+  if (job.arch.level == Level::analytic) {  // no SystemC at all
+    simulate<T>(job, geometry);
+    return 0;
+  }
   g_simulation = [&] {
     simulate<T>(job, geometry);
     return 0;
@@ -79,7 +83,8 @@ int run_render(const RenderOptions& o) {
   RenderJob job;
   job.scene = &scene;
   job.arch = resolve_arch(o);
-  not_yet(job.arch.level == Level::analytic, "--level analytic");
+  if (job.arch.level == Level::analytic && !o.vcd.empty())
+    throw InputError("--vcd", o.vcd, "the analytic level has no simulated signals to trace (use --level at or lt)");
   not_yet(job.arch.accel == "bvh", "--accel bvh");
   not_yet(job.arch.kernel == "watertight", "--kernel watertight");
   not_yet(job.arch.balance == "feedback" || job.arch.balance == "view", "--balance " + job.arch.balance);

@@ -1,18 +1,32 @@
 #include "testbench.h"
 
+#include "frame_output.h"
 #include "gtkwave.h"
-
 #include "ref/frame_setup.h"
 
 #include <cstdio>
 #include <filesystem>
-#include <unistd.h>
 
 namespace oprt {
 
 using namespace sc_core;
 
 namespace {
+
+hw::FrameCommand frame_command(const RenderJob& job, int f, FrameImage& image) {
+  hw::FrameCommand cmd;
+  cmd.frame = f;
+  cmd.to_world = object_matrices(*job.scene, f);
+  cmd.camera = job.scene->camera->at(f);
+  cmd.width = job.width;
+  cmd.height = job.height;
+  cmd.image = &image;
+  return cmd;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 template <typename T>
 class Testbench : public sc_module {
@@ -41,63 +55,16 @@ class Testbench : public sc_module {
   }
 
   void frames() {
-    const sc_time cycle(job_.arch.cycle_ns(), SC_NS);
     for (int f = job_.frames.first; f <= job_.frames.last; ++f) {
       frame_ = f;
       const auto t0 = std::chrono::steady_clock::now();
-      for (std::size_t u = 0; u < engine_->units(); ++u) engine_->unit(u).reset_stats();
-      engine_->bus().reset_stats();
-      for (std::size_t u = 0; u < engine_->units(); ++u) engine_->memory(u).reset_stats();
+      reset_stats();
       FrameImage image(job_.width, job_.height);
-      hw::FrameCommand cmd;
-      cmd.frame = f;
-      cmd.to_world = object_matrices(*job_.scene, f);
-      cmd.camera = job_.scene->camera->at(f);
-      cmd.width = job_.width;
-      cmd.height = job_.height;
-      cmd.image = &image;
+      hw::FrameCommand cmd = frame_command(job_, f, image);
       engine_->run_frame(cmd);
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
-      FrameStats fs;
-      fs.frame = f;
-      fs.wall_s = wall;
-      const hw::GppStats& g = engine_->gpp().stats();
-      fs.makespan = static_cast<std::uint64_t>((g.end - g.start) / cycle + 0.5);
-      fs.rays[0] = g.rays[0];
-      fs.rays[1] = g.rays[1];
-      fs.bus_busy = engine_->bus().busy_cycles();
-      fs.bus_bytes = engine_->bus().bytes();
-      fs.bus_transfers = engine_->bus().transfers();
-      fs.image_hash = image.hash();
-      for (std::size_t u = 0; u < engine_->units(); ++u) {
-        hw::UnitStats& s = engine_->unit(u).stats();
-        UnitFrameStats us;
-        us.id = static_cast<int>(u);
-        us.spheres = job_.assignment.unit[u];
-        for (std::uint32_t sp : us.spheres) us.primitives += geometry_.triangles_in(sp);
-        us.rays = s.rays[0] + s.rays[1];
-        us.cycles = s.cycles;
-        const std::uint64_t used = s.cycles.busy() + s.cycles.stall;
-        us.idle = fs.makespan > used ? fs.makespan - used : 0;
-        for (int k = 0; k < kRayKinds; ++k)
-          for (std::uint32_t sp : us.spheres) us.work[k] += s.per_sphere[k][sp];
-        us.memory_bytes = engine_->memory(u).bytes_read();
-        fs.units.push_back(std::move(us));
-      }
-      if (job_.write_files) {
-        const auto dir = std::filesystem::path(job_.out_dir);
-        write_exr((dir / frame_name(f, "exr")).string(), image);
-        write_png((dir / frame_name(f, "png")).string(), image);
-        stats_->add(fs);
-      }
-      if (job_.keep_results) {
-        job_.results.push_back(fs);
-        job_.images.push_back(std::move(image));
-      }
+      const FrameStats fs = frame_stats(collect(), job_, geometry_, f, seconds_since(t0), image);
+      finish_frame(job_, stats_.get(), fs, std::move(image));
       if (vcd_) vcd_->flush_before(sc_time_stamp().value());
-      ++job_.completed;
-      if (job_.write_files) report(fs);
     }
     if (vcd_) {
       vcd_->close(sc_time_stamp().value());
@@ -109,6 +76,38 @@ class Testbench : public sc_module {
     }
   }
 
+  void reset_stats() {
+    for (std::size_t u = 0; u < engine_->units(); ++u) {
+      engine_->unit(u).reset_stats();
+      engine_->memory(u).reset_stats();
+    }
+    engine_->bus().reset_stats();
+  }
+
+  // The frame as the modules counted it.
+  hw::FrameRun collect() {
+    const sc_time cycle(job_.arch.cycle_ns(), SC_NS);
+    const hw::GppStats& g = engine_->gpp().stats();
+    hw::FrameRun run;
+    run.makespan = static_cast<std::uint64_t>((g.end - g.start) / cycle + 0.5);
+    run.rays[0] = g.rays[0];
+    run.rays[1] = g.rays[1];
+    run.bus_busy = engine_->bus().busy_cycles();
+    run.bus_bytes = engine_->bus().bytes();
+    run.bus_transfers = engine_->bus().transfers();
+    run.memory_load_bytes = g.memory_load_bytes;
+    for (std::size_t u = 0; u < engine_->units(); ++u) {
+      hw::UnitStats& s = engine_->unit(u).stats();
+      hw::UnitRun r;
+      r.cycles = s.cycles;
+      r.rays = s.rays[0] + s.rays[1];
+      for (int k = 0; k < kRayKinds; ++k) r.per_sphere[k] = s.per_sphere[k];
+      r.memory_bytes = engine_->memory(u).bytes_read();
+      run.units.push_back(std::move(r));
+    }
+    return run;
+  }
+
   void progress(std::uint64_t done, std::uint64_t total) {
     const int width = 30;
     const double f = total ? static_cast<double>(done) / total : 0;
@@ -116,15 +115,6 @@ class Testbench : public sc_module {
     std::fprintf(stderr, "\r\033[Kframe %d of %d:%d  [%s%s] %3.0f%% of primary rays", frame_, job_.frames.first,
                  job_.frames.last, std::string(filled, '#').c_str(), std::string(width - filled, ' ').c_str(), 100 * f);
     std::fflush(stderr);
-  }
-
-  void report(const FrameStats& fs) {
-    if (job_.progress) std::fprintf(stderr, "\r\033[K");
-    std::printf("frame %4d  makespan %llu cycles  efficiency %.3f  %llu rays  %.2f s  (%.3g rays/s)\n", fs.frame,
-                static_cast<unsigned long long>(fs.makespan), fs.efficiency(),
-                static_cast<unsigned long long>(fs.rays[0] + fs.rays[1]), fs.wall_s,
-                (fs.rays[0] + fs.rays[1]) / std::max(fs.wall_s, 1e-9));
-    std::fflush(stdout);
   }
 
   RenderJob& job_;
@@ -135,10 +125,30 @@ class Testbench : public sc_module {
   std::unique_ptr<StatsWriter> stats_;
 };
 
+// The analytic level: the same frames, no SystemC.
+template <typename T>
+void run_analytic(RenderJob& job, const SceneGeometry<T>& geometry) {
+  hw::AnalyticEngine<T> engine(*job.scene, geometry, job.arch);
+  engine.assign(job.assignment);
+  std::unique_ptr<StatsWriter> stats;
+  if (job.write_files) stats = std::make_unique<StatsWriter>(job.out_dir, job.header);
+  for (int f = job.frames.first; f <= job.frames.last; ++f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    FrameImage image(job.width, job.height);
+    const hw::FrameRun run = engine.run_frame(frame_command(job, f, image));
+    const FrameStats fs = frame_stats(run, job, geometry, f, seconds_since(t0), image);
+    finish_frame(job, stats.get(), fs, std::move(image));
+  }
+}
+
 }  // namespace
 
 template <typename T>
 void simulate(RenderJob& job, const SceneGeometry<T>& geometry) {
+  if (job.arch.level == Level::analytic) {
+    run_analytic(job, geometry);
+    return;
+  }
   if (job.arch.level == Level::lt) tlm_utils::tlm_quantumkeeper::set_global_quantum(sc_time(job.arch.quantum_ns, SC_NS));
   Testbench<T> tb("testbench", job, geometry);
   sc_start();

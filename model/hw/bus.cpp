@@ -29,26 +29,6 @@ void Bus::map(std::uint64_t base, std::uint64_t size, std::vector<int> targets) 
   regions_.insert(at, {base, size, std::move(targets)});
 }
 
-sc_time Bus::reserve(const sc_time& request, const sc_time& length) {
-  // Forget intervals that ended before now: no request can be for an earlier time.
-  const sc_time now = sc_time_stamp();
-  while (!granted_.empty() && granted_.begin()->second <= now) granted_.erase(granted_.begin());
-  sc_time start = request;
-  auto it = granted_.upper_bound(start);
-  if (it != granted_.begin()) {
-    auto prev = std::prev(it);
-    if (prev->second > start) start = prev->second;
-  }
-  // Slide forward past every interval that overlaps [start, start + length).
-  for (; it != granted_.end() && it->first < start + length; ++it) start = std::max(start, it->second);
-  granted_.emplace(start, start + length);
-  if (vcd_) {
-    vcd_->change(vcd_busy_, start.value(), 1);
-    vcd_->change(vcd_busy_, (start + length).value(), 0);
-  }
-  return start + length;
-}
-
 void Bus::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
   const std::uint64_t a = p.get_address();
   auto it = std::upper_bound(regions_.begin(), regions_.end(), a,
@@ -64,7 +44,13 @@ void Bus::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
     const std::uint64_t cycles =
         arbitration_cycles_ + (p.get_data_length() + bytes_per_cycle_ - 1) / bytes_per_cycle_;
     busy_cycles_ += cycles;
-    const sc_time end = reserve(sc_time_stamp() + delay, cycle_ * static_cast<double>(cycles));
+    calendar_.forget_before(sc_time_stamp());
+    sc_time start;
+    const sc_time end = calendar_.reserve(sc_time_stamp() + delay, cycle_ * static_cast<double>(cycles), &start);
+    if (vcd_) {
+      vcd_->change(vcd_busy_, start.value(), 1);
+      vcd_->change(vcd_busy_, end.value(), 0);
+    }
     if (decoupled_) {
       delay = end - sc_time_stamp();
     } else {

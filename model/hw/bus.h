@@ -16,10 +16,10 @@
 #pragma once
 
 #include "hw/arch.h"
+#include "hw/calendar.h"
 #include "hw/vcd_writer.h"
 
 #include <cstdint>
-#include <map>
 #include <vector>
 
 #include <systemc>
@@ -50,14 +50,12 @@ class Bus : public sc_core::sc_module {
     std::vector<int> targets;
   };
   void b_transport(int from, tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
-  // Grant [start, start + length) at or after `request`; returns the end time.
-  sc_core::sc_time reserve(const sc_core::sc_time& request, const sc_core::sc_time& length);
 
   const bool shared_, decoupled_;
   const int bytes_per_cycle_, arbitration_cycles_;
   const sc_core::sc_time cycle_;
   std::vector<Region> regions_;
-  std::map<sc_core::sc_time, sc_core::sc_time> granted_;  // start -> end
+  Calendar<sc_core::sc_time> calendar_;
   std::uint64_t busy_cycles_ = 0, transfers_ = 0, bytes_ = 0;
   VcdWriter* vcd_;
   int vcd_busy_ = -1;

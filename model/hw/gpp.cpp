@@ -90,6 +90,9 @@ void Gpp<T>::wait_for_space_or_answers(bool want_space) {
   const int full = want_space ? full_fifo() : -1;
   if (full >= 0) wait(answered_ | fifos[full]->freed_event());
   else wait(answered_);
+  // Units finishing in the same time step answer within its first delta cycle: let them
+  // all arrive, so that simultaneous completions are handled in ray order.
+  if (!clock_.decoupled()) wait(SC_ZERO_TIME);
   clock_.resync();
 }
 
@@ -131,7 +134,7 @@ void Gpp<T>::hit_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   if (a->hit.valid() && closer(a->hit, r.hit)) r.hit = a->hit;
   completed_at_[a->ray] = std::max(completed_at_[a->ray], sc_time_stamp() + delay);
   if (--r.answers_left == 0) {
-    completed_.push_back(a->ray);
+    completed_.push({completed_at_[a->ray], a->ray});
     answered_.notify();
   }
   p.set_response_status(tlm::TLM_OK_RESPONSE);
@@ -227,7 +230,7 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   completed_at_.clear();
   completed_at_.reserve(max_rays);
   pixels_.assign(pixels, Pixel{});
-  completed_.clear();
+  completed_ = {};
   shadow_queue_.clear();
   issued_ = retired_ = 0;
   primaries_retired_ = 0;
@@ -238,8 +241,8 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   std::size_t next_pixel = 0;
   for (;;) {
     if (!completed_.empty()) {
-      const std::uint32_t id = completed_.front();
-      completed_.pop_front();
+      const std::uint32_t id = completed_.top().ray;
+      completed_.pop();
       retire(id, cmd, shader);
       continue;
     }

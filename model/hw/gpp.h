@@ -20,6 +20,7 @@
 #include "ref/shading.h"
 
 #include <deque>
+#include <queue>
 #include <functional>
 #include <vector>
 
@@ -29,15 +30,6 @@
 #include <tlm_utils/simple_target_socket.h>
 
 namespace oprt::hw {
-
-// The host's command for one frame (the data of a write to the GPP's host socket).
-struct FrameCommand {
-  int frame = 0;
-  std::vector<Affine<double>> to_world;  // per object
-  Camera camera;
-  int width = 0, height = 0;
-  FrameImage* image = nullptr;           // filled in
-};
 
 struct GppStats {
   std::uint64_t rays[kRayKinds] = {};
@@ -104,7 +96,15 @@ class Gpp : public sc_core::sc_module {
   sc_core::sc_event request_, done_, answered_;
   std::vector<Pending> pending_;
   std::vector<Pixel> pixels_;
-  std::deque<std::uint32_t> completed_, shadow_queue_;
+  // Rays whose answers are all in, by (completion time, ray id): the GPP handles them in
+  // this order, so simultaneous completions have one defined order at every level.
+  struct Completion {
+    sc_core::sc_time at;
+    std::uint32_t ray;
+    bool operator>(const Completion& o) const { return at != o.at ? at > o.at : ray > o.ray; }
+  };
+  std::priority_queue<Completion, std::vector<Completion>, std::greater<Completion>> completed_;
+  std::deque<std::uint32_t> shadow_queue_;
   std::vector<sc_core::sc_time> completed_at_;  // per ray: when its last answer arrived
   std::uint64_t issued_ = 0, retired_ = 0;
   unsigned units_ = 0;

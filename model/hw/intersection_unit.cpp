@@ -91,9 +91,9 @@ void IntersectionUnit<T>::run() {
     UnitCycles c;
     phase_at = clock_.now();
     auto visit = [&](const SphereVisit& v) {
-      const UnitCycles vc = visit_cycles<T>(v, arch_);
+      std::uint64_t bytes = 0;
+      const UnitCycles vc = charge_visit<T>(v, arch_, stats_.per_sphere[kind], bytes);
       c += vc;
-      stats_.per_sphere[kind][v.sphere] += v.work;
       if (v.work.transforms) read_memory(v.sphere, static_cast<std::uint32_t>(v.work.tri_tests()));
       if (vcd_) {
         phase(UnitState::sphere, vc.sphere);

@@ -5,6 +5,7 @@
 // id).
 #pragma once
 
+#include "ref/image.h"
 #include "ref/traverse.h"
 
 #include <cstdint>
@@ -62,6 +63,15 @@ struct AnswerPacket {
 template <typename T>
 struct ConfigPacket {
   const IuRegisters<T>* registers;
+};
+
+// The host's command for one frame (the data of a write to the GPP's host socket).
+struct FrameCommand {
+  int frame = 0;
+  std::vector<Affine<double>> to_world;  // per object
+  Camera camera;
+  int width = 0, height = 0;
+  FrameImage* image = nullptr;           // filled in
 };
 
 // Object memory contents: which spheres' triangle blocks are loaded.

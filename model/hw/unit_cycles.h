@@ -50,6 +50,16 @@ inline UnitCycles visit_cycles(const SphereVisit& v, const Arch& a) {
   return c;
 }
 
+// What a unit records of one sphere visit: its cycles, its work (per kind and sphere) and
+// the bytes it streams from object memory. Shared by the SystemC unit and the analytic level.
+template <typename T>
+inline UnitCycles charge_visit(const SphereVisit& v, const Arch& a, std::vector<WorkCounts>& per_sphere,
+                               std::uint64_t& memory_bytes) {
+  per_sphere[v.sphere] += v.work;
+  if (v.work.transforms) memory_bytes += v.work.tri_tests() * Bytes<T>::triangle;
+  return visit_cycles<T>(v, a);
+}
+
 // Cycles of a whole work table (no stalls): what the functional counts predict.
 inline UnitCycles work_cycles(const WorkCounts& w, const CycleCosts& c) {
   UnitCycles u;

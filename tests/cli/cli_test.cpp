@@ -100,6 +100,24 @@ TEST_CASE("cli: lt and at give identical images and busy cycles", "[cli][lt]") {
   }
 }
 
+TEST_CASE("cli: analytic equals at exactly under the ideal architecture", "[cli][analytic]") {
+  const fs::path d = temp_dir("analytic");
+  for (const char* scene_name : {"paper_room.json", "paper_polygons.json"}) {
+    INFO(scene_name);
+    const std::string common = "render " + scene(scene_name) + " --frames 7 --resolution 28x28 --ius 9 --no-progress";
+    REQUIRE(run_oprt(common + " --level at --out " + (d / "at").string()).status == 0);
+    REQUIRE(run_oprt(common + " --level analytic --out " + (d / "an").string()).status == 0);
+    CHECK(oprt::read_exr((d / "at" / "frame_0007.exr").string()) == oprt::read_exr((d / "an" / "frame_0007.exr").string()));
+    const auto a = stats(d / "at")["frames"][0], b = stats(d / "an")["frames"][0];
+    CHECK(a["makespan_cycles"] == b["makespan_cycles"]);
+    CHECK(a["rays"] == b["rays"]);
+    for (int u = 0; u < 9; ++u) CHECK(a["ius"][u]["cycles"] == b["ius"][u]["cycles"]);  // idle and stall too
+  }
+  // And it refuses to trace: there are no simulated signals.
+  const Result r = run_oprt("render " + scene("paper_room.json") + " --level analytic --vcd " + (d / "t.vcd").string());
+  CHECK(r.status == 2);
+}
+
 TEST_CASE("cli: stats name the fields scripts rely on", "[cli]") {
   const fs::path d = temp_dir("stats");
   REQUIRE(run_oprt("render " + scene("paper_polygons.json") + " --frames 0 --resolution 16x16 --ius 4 --out " +

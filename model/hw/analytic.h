@@ -1,0 +1,61 @@
+// The analytic level: no SystemC process per ray. Each unit's work on a ray comes from the
+// same functional traversal as at every other level (so busy cycles are identical by
+// construction); time comes from a recurrence over the order in which rays enter the
+// FIFOs, which is the order the GPP issues them:
+//   a unit starts ray k at max(when it finished its previous ray, when ray k arrived),
+//   a ray completes when its last answer arrives, and the GPP handles completions in
+//   (time, ray) order with the same priorities as the SystemC GPP (answers, then pending
+//   shadow rays, then the next primary ray), FIFO room and the shared bus's calendar.
+// A unit's timing for a ray depends only on rays issued before it, so each ray is timed
+// when it is issued. Under the paper's ideal architecture this is exactly the timing of
+// `at`. With a shared bus it is approximate: a later-issued ray's answer may in truth take
+// the bus before an earlier-issued one's, and the calendar grants in issue order instead.
+// Not a SystemC module: plain C++, one call per frame.
+#pragma once
+
+#include "balance/assign.h"
+#include "hw/arch.h"
+#include "hw/calendar.h"
+#include "hw/payloads.h"
+#include "hw/unit_cycles.h"
+#include "scene/scene.h"
+
+#include <vector>
+
+namespace oprt::hw {
+
+// What one frame produced; the SystemC testbench fills the same from its modules.
+struct UnitRun {
+  UnitCycles cycles;
+  std::uint64_t rays = 0;
+  std::vector<WorkCounts> per_sphere[kRayKinds];
+  std::uint64_t memory_bytes = 0;
+};
+
+struct FrameRun {
+  std::uint64_t makespan = 0;
+  std::uint64_t rays[kRayKinds] = {};
+  std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0, memory_load_bytes = 0;
+  std::vector<UnitRun> units;
+};
+
+template <typename T>
+class AnalyticEngine {
+ public:
+  AnalyticEngine(const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch)
+      : scene_(scene), geom_(geometry), arch_(arch) {}
+  void assign(const Assignment& a) { assignment_ = a.unit; }
+  // Renders cmd.image and returns the frame's timing.
+  FrameRun run_frame(const FrameCommand& cmd);
+
+ private:
+  const Scene& scene_;
+  const SceneGeometry<T>& geom_;
+  const Arch& arch_;
+  std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
+};
+
+extern template class AnalyticEngine<float>;
+extern template class AnalyticEngine<double>;
+
+}  // namespace oprt::hw

@@ -1,0 +1,65 @@
+#include "frame_output.h"
+
+#include <cstdio>
+#include <filesystem>
+
+namespace oprt {
+
+template <typename T>
+FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const SceneGeometry<T>& geometry, int frame,
+                       double wall_s, const FrameImage& image) {
+  FrameStats fs;
+  fs.frame = frame;
+  fs.wall_s = wall_s;
+  fs.makespan = run.makespan;
+  fs.rays[0] = run.rays[0];
+  fs.rays[1] = run.rays[1];
+  fs.bus_busy = run.bus_busy;
+  fs.bus_bytes = run.bus_bytes;
+  fs.bus_transfers = run.bus_transfers;
+  fs.memory_load_bytes = run.memory_load_bytes;
+  fs.image_hash = image.hash();
+  for (std::size_t u = 0; u < run.units.size(); ++u) {
+    const hw::UnitRun& r = run.units[u];
+    UnitFrameStats us;
+    us.id = static_cast<int>(u);
+    us.spheres = job.assignment.unit[u];
+    for (std::uint32_t s : us.spheres) us.primitives += geometry.triangles_in(s);
+    us.rays = r.rays;
+    us.cycles = r.cycles;
+    const std::uint64_t used = r.cycles.busy() + r.cycles.stall;
+    us.idle = fs.makespan > used ? fs.makespan - used : 0;
+    for (int k = 0; k < kRayKinds; ++k)
+      for (std::uint32_t s : us.spheres) us.work[k] += r.per_sphere[k][s];
+    us.memory_bytes = r.memory_bytes;
+    fs.units.push_back(std::move(us));
+  }
+  return fs;
+}
+
+void finish_frame(RenderJob& job, StatsWriter* stats, const FrameStats& fs, FrameImage&& image) {
+  if (job.write_files) {
+    const auto dir = std::filesystem::path(job.out_dir);
+    write_exr((dir / frame_name(fs.frame, "exr")).string(), image);
+    write_png((dir / frame_name(fs.frame, "png")).string(), image);
+    stats->add(fs);
+    if (job.progress) std::fprintf(stderr, "\r\033[K");
+    std::printf("frame %4d  makespan %llu cycles  efficiency %.3f  %llu rays  %.2f s  (%.3g rays/s)\n", fs.frame,
+                static_cast<unsigned long long>(fs.makespan), fs.efficiency(),
+                static_cast<unsigned long long>(fs.rays[0] + fs.rays[1]), fs.wall_s,
+                (fs.rays[0] + fs.rays[1]) / std::max(fs.wall_s, 1e-9));
+    std::fflush(stdout);
+  }
+  if (job.keep_results) {
+    job.results.push_back(fs);
+    job.images.push_back(std::move(image));
+  }
+  ++job.completed;
+}
+
+template FrameStats frame_stats(const hw::FrameRun&, const RenderJob&, const SceneGeometry<float>&, int, double,
+                                const FrameImage&);
+template FrameStats frame_stats(const hw::FrameRun&, const RenderJob&, const SceneGeometry<double>&, int, double,
+                                const FrameImage&);
+
+}  // namespace oprt
