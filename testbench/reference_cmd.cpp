@@ -30,7 +30,8 @@ int reference(const CommonOptions& o, const Scene& scene) {
   parse_resolution(o.resolution, width, height);
   const FrameRange frames = parse_frames(o.frames, scene);
   const auto t_build = std::chrono::steady_clock::now();
-  const SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, o.subdivide));
+  SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, o.subdivide));
+  const bool deforming = has_deforming(scene);
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
   std::filesystem::create_directories(o.out);
 
@@ -43,6 +44,7 @@ int reference(const CommonOptions& o, const Scene& scene) {
                           {"frames", nlohmann::json::array()}};
   for (int f = frames.first; f <= frames.last; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
+    if (deforming) update_deforming(g, scene, f);
     const FrameResult r = render_reference(scene, g, f, width, height);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::string exr = (std::filesystem::path(o.out) / frame_name(f, "exr")).string();

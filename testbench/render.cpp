@@ -47,9 +47,21 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
   if (units < static_cast<std::size_t>(job.arch.ius))
     std::printf("oprt: %d intersection units requested, the scene has %zu spheres: instantiating %zu units\n",
                 job.arch.ius, spheres.size(), units);
-  job.assignment = static_assignment(job.arch.balance, spheres, units);
-  const SceneGeometry<T> geometry = build_geometry<T>(scene, spheres);
+  // Dynamic policies start from sa_n (feedback has nothing measured before the first frame).
+  const bool dynamic = job.arch.balance == "feedback" || job.arch.balance == "view";
+  SaNCosts costs;
+  costs.sphere = job.arch.costs.sphere;
+  costs.transform = job.arch.costs.transform;
+  costs.triangle = 0;
+  for (auto c : job.arch.costs.tri_stage) costs.triangle += c / double(kTriStages);
+  job.assignment = static_assignment(dynamic ? "sa_n" : job.arch.balance, scene, spheres, units, costs);
+  SceneGeometry<T> geometry = build_geometry<T>(scene, spheres);
+  nlohmann::json sphere_info = nlohmann::json::array();
+  for (const SphereDef& d : spheres)
+    sphere_info.push_back({{"object", d.object}, {"primitives", d.prims.size()}, {"radius", d.local.r},
+                           {"center", {d.local.c.x, d.local.c.y, d.local.c.z}}, {"sa_n", d.sa_n()}});
   job.header = {{"scene", o.scene},
+                {"sphere_list", sphere_info},
                 {"triangles", scene.triangle_count()},
                 {"objects", scene.objects.size()},
                 {"spheres", spheres.size()},
@@ -87,7 +99,6 @@ int run_render(const RenderOptions& o) {
     throw InputError("--vcd", o.vcd, "the analytic level has no simulated signals to trace (use --level at or lt)");
   not_yet(job.arch.accel == "bvh", "--accel bvh");
   not_yet(job.arch.kernel == "watertight", "--kernel watertight");
-  not_yet(job.arch.balance == "feedback" || job.arch.balance == "view", "--balance " + job.arch.balance);
   job.width = scene.width;
   job.height = scene.height;
   parse_resolution(o.resolution, job.width, job.height);

@@ -64,6 +64,7 @@ nlohmann::json to_json(const FrameStats& f) {
           {"bus", {{"busy_cycles", f.bus_busy}, {"bytes", f.bus_bytes}, {"transfers", f.bus_transfers}}},
           {"memory_load_bytes", f.memory_load_bytes},
           {"image_hash", hash},
+          {"sphere_cycles", f.sphere_cycles},
           {"ius", units}};
 }
 

@@ -35,6 +35,7 @@ struct FrameStats {
   std::uint64_t memory_load_bytes = 0;  // geometry moved into object memories this frame
   std::uint64_t image_hash = 0;
   std::vector<UnitFrameStats> units;
+  std::vector<std::uint64_t> sphere_cycles;  // per sphere: busy cycles spent on it (whichever unit)
 
   std::uint64_t busy() const;
   // Sum of busy cycles / (units x makespan).

@@ -2,10 +2,12 @@
 
 #include "frame_output.h"
 #include "gtkwave.h"
+#include "policy_driver.h"
 #include "ref/frame_setup.h"
 
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 namespace oprt {
 
@@ -32,12 +34,13 @@ template <typename T>
 class Testbench : public sc_module {
  public:
   SC_HAS_PROCESS(Testbench);
-  Testbench(const sc_module_name& name, RenderJob& job, const SceneGeometry<T>& geometry)
+  Testbench(const sc_module_name& name, RenderJob& job, SceneGeometry<T>& geometry)
       : sc_module(name), job_(job), geometry_(geometry) {
     if (!job.vcd_path.empty()) vcd_ = std::make_unique<VcdWriter>(job.vcd_path);
     engine_ = std::make_unique<hw::Engine<T>>("engine", *job.scene, geometry, job.arch, job.assignment.units(),
                                               vcd_.get());
     engine_->assign(job.assignment);
+    policy_ = std::make_unique<PolicyDriver<T>>(*job.scene, geometry, job.arch, job.assignment, job.width, job.height);
     if (job.progress)
       engine_->gpp().on_progress([this](std::uint64_t done, std::uint64_t total) { progress(done, total); });
     if (job.write_files) stats_ = std::make_unique<StatsWriter>(job.out_dir, job.header);
@@ -59,10 +62,14 @@ class Testbench : public sc_module {
       frame_ = f;
       const auto t0 = std::chrono::steady_clock::now();
       reset_stats();
+      if (deforming_) update_deforming(geometry_, *job_.scene, f);
+      job_.assignment = policy_->for_frame(f, previous_ ? &*previous_ : nullptr);
+      engine_->assign(job_.assignment);
       FrameImage image(job_.width, job_.height);
       hw::FrameCommand cmd = frame_command(job_, f, image);
       engine_->run_frame(cmd);
-      const FrameStats fs = frame_stats(collect(), job_, geometry_, f, seconds_since(t0), image);
+      previous_ = collect();
+      const FrameStats fs = frame_stats(*previous_, job_, geometry_, f, seconds_since(t0), image);
       finish_frame(job_, stats_.get(), fs, std::move(image));
       if (vcd_) vcd_->flush_before(sc_time_stamp().value());
     }
@@ -118,24 +125,33 @@ class Testbench : public sc_module {
   }
 
   RenderJob& job_;
-  const SceneGeometry<T>& geometry_;
+  SceneGeometry<T>& geometry_;
+  const bool deforming_ = has_deforming(*job_.scene);
   int frame_ = 0;
   std::unique_ptr<VcdWriter> vcd_;
   std::unique_ptr<hw::Engine<T>> engine_;
   std::unique_ptr<StatsWriter> stats_;
+  std::unique_ptr<PolicyDriver<T>> policy_;
+  std::optional<hw::FrameRun> previous_;
 };
 
 // The analytic level: the same frames, no SystemC.
 template <typename T>
-void run_analytic(RenderJob& job, const SceneGeometry<T>& geometry) {
+void run_analytic(RenderJob& job, SceneGeometry<T>& geometry) {
+  const bool deforming = has_deforming(*job.scene);
   hw::AnalyticEngine<T> engine(*job.scene, geometry, job.arch);
-  engine.assign(job.assignment);
+  PolicyDriver<T> policy(*job.scene, geometry, job.arch, job.assignment, job.width, job.height);
   std::unique_ptr<StatsWriter> stats;
   if (job.write_files) stats = std::make_unique<StatsWriter>(job.out_dir, job.header);
+  std::optional<hw::FrameRun> previous;
   for (int f = job.frames.first; f <= job.frames.last; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
+    if (deforming) update_deforming(geometry, *job.scene, f);
+    job.assignment = policy.for_frame(f, previous ? &*previous : nullptr);
+    engine.assign(job.assignment);
     FrameImage image(job.width, job.height);
-    const hw::FrameRun run = engine.run_frame(frame_command(job, f, image));
+    previous = engine.run_frame(frame_command(job, f, image));
+    const hw::FrameRun& run = *previous;
     const FrameStats fs = frame_stats(run, job, geometry, f, seconds_since(t0), image);
     finish_frame(job, stats.get(), fs, std::move(image));
   }
@@ -144,7 +160,7 @@ void run_analytic(RenderJob& job, const SceneGeometry<T>& geometry) {
 }  // namespace
 
 template <typename T>
-void simulate(RenderJob& job, const SceneGeometry<T>& geometry) {
+void simulate(RenderJob& job, SceneGeometry<T>& geometry) {
   if (job.arch.level == Level::analytic) {
     run_analytic(job, geometry);
     return;
@@ -158,7 +174,7 @@ void simulate(RenderJob& job, const SceneGeometry<T>& geometry) {
                              std::to_string(job.frames.count()) + " frames");
 }
 
-template void simulate<float>(RenderJob&, const SceneGeometry<float>&);
-template void simulate<double>(RenderJob&, const SceneGeometry<double>&);
+template void simulate<float>(RenderJob&, SceneGeometry<float>&);
+template void simulate<double>(RenderJob&, SceneGeometry<double>&);
 
 }  // namespace oprt

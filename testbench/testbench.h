@@ -35,10 +35,11 @@ struct RenderJob {
 
 // Build the engine for `job` and run every frame; returns when done. Must be called where
 // SystemC may elaborate (sc_main). Throws on failure.
+// The geometry's deforming objects (if any) are updated before each frame.
 template <typename T>
-void simulate(RenderJob& job, const SceneGeometry<T>& geometry);
+void simulate(RenderJob& job, SceneGeometry<T>& geometry);
 
-extern template void simulate<float>(RenderJob&, const SceneGeometry<float>&);
-extern template void simulate<double>(RenderJob&, const SceneGeometry<double>&);
+extern template void simulate<float>(RenderJob&, SceneGeometry<float>&);
+extern template void simulate<double>(RenderJob&, SceneGeometry<double>&);
 
 }  // namespace oprt

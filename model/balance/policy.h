@@ -7,10 +7,23 @@
 
 namespace oprt {
 
-// "paper", "round_robin" or "sa_n"; units = min(requested, spheres).
-Assignment static_assignment(const std::string& policy, const std::vector<SphereDef>& spheres, std::size_t units);
+// Cycle costs the weights are expressed in (defaults: the paper's Table 1).
+struct SaNCosts {
+  double sphere = 9, transform = 19, triangle = 14.25;  // triangle: mean of the exit-stage costs
+};
 
-// Per-sphere surface area x primitive count.
-std::vector<double> sa_n_weights(const std::vector<SphereDef>& spheres);
+// "paper", "round_robin" or "sa_n"; units = min(requested, spheres).
+Assignment static_assignment(const std::string& policy, const Scene& scene, const std::vector<SphereDef>& spheres,
+                             std::size_t units, const SaNCosts& costs = {});
+
+// The paper's SA x N made into cycles per ray. For uniformly random lines, the fraction
+// that enter a convex body inside another is the ratio of their surface areas (Crofton),
+// so a sphere of area A_s in a scene bounded by area A costs, per ray,
+//   sphere + (A_s / A) (transform + N_s triangle)
+// -- SA x N plus the two terms SA x N leaves out: every sphere is tested by every ray
+// whatever its size, and each entry costs a transform. A is the area of the sphere
+// bounding the whole scene (at frame 0), the convex body all rays of interest cross.
+std::vector<double> sa_n_weights(const Scene& scene, const std::vector<SphereDef>& spheres,
+                                 const SaNCosts& costs = {});
 
 }  // namespace oprt

@@ -24,7 +24,7 @@ std::vector<SphereDef> make_spheres(const Scene& scene, int k) {
       clusters.emplace_back(mesh.triangles.size());
       std::iota(clusters.back().begin(), clusters.back().end(), 0u);
     } else {
-      clusters = subdivide(mesh, k);
+      clusters = subdivide(mesh, k, split_rule_from_env());
     }
     for (auto& prims : clusters) {
       SphereDef d;

@@ -1,56 +1,134 @@
 #include "balance/subdivide.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <limits>
 #include <numeric>
 
 namespace oprt {
 
 namespace {
-Vec3d centroid(const Mesh& m, std::uint32_t t) {
-  const Tri& tr = m.triangles[t];
-  return (m.vertices[tr[0]] + m.vertices[tr[1]] + m.vertices[tr[2]]) / 3.0;
-}
 
-// Split `prims` into k clusters: cut at the centroid median along the axis of largest
-// extent, giving each side a share of k proportional to its count, and recurse.
-// (A first version; issue 4 revisits the split rule against the sum of SA x N.)
-void split(const Mesh& m, std::vector<std::uint32_t> prims, int k,
-           std::vector<std::vector<std::uint32_t>>& out) {
-  if (k <= 1 || prims.size() <= 1) {
-    out.push_back(std::move(prims));
+struct Box {
+  Vec3d lo{std::numeric_limits<double>::max()}, hi{-std::numeric_limits<double>::max()};
+  void add(const Vec3d& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  void add(const Box& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  // A sphere around the box has radius half its diagonal: area proportional to diag^2.
+  double sphere_area_proxy() const {
+    const Vec3d d = hi - lo;
+    return lo.x > hi.x ? 0 : dot3(d, d);
+  }
+};
+
+struct Prim {
+  std::uint32_t id;
+  Vec3d centroid;
+  Box box;
+};
+
+// Split `prims` into k clusters. The rule serves the balance the clusters are made for: a
+// cluster's expected work is proportional to its sphere's surface area times its primitive
+// count (the paper's SA x N), so each binary cut is placed where the larger of the two
+// sides' SA x N per cluster it must still become is smallest:
+//   minimise max(A_L N_L / k_L, A_R N_R / k_R)
+// over 32 candidate planes per axis (centroid quantiles), k_L = floor(k / 2). Compared with
+// cutting at the median count along the longest axis, this keeps dense or large parts from
+// ending up in one expensive cluster (docs/results.md measures both on the room).
+void split(std::vector<Prim> p, int k, std::vector<std::vector<std::uint32_t>>& out) {
+  if (k <= 1 || p.size() <= 1) {
+    std::vector<std::uint32_t> ids;
+    for (const Prim& q : p) ids.push_back(q.id);
+    out.push_back(std::move(ids));
     return;
   }
-  Vec3d lo(1e300), hi(-1e300);
-  for (std::uint32_t p : prims) {
-    const Vec3d c = centroid(m, p);
-    lo = glm::min(lo, c);
-    hi = glm::max(hi, c);
+  const int k_left = k / 2, k_right = k - k_left;
+  const std::size_t n = p.size();
+  double best = std::numeric_limits<double>::max();
+  int best_axis = 0;
+  std::size_t best_cut = n * k_left / k;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::sort(p.begin(), p.end(), [axis](const Prim& a, const Prim& b) {
+      return a.centroid[axis] < b.centroid[axis] || (a.centroid[axis] == b.centroid[axis] && a.id < b.id);
+    });
+    // Prefix and suffix boxes, then every candidate cut in O(1).
+    std::vector<Box> left(n), right(n);
+    Box acc;
+    for (std::size_t i = 0; i < n; ++i) acc.add(p[i].box), left[i] = acc;
+    acc = Box{};
+    for (std::size_t i = n; i-- > 0;) acc.add(p[i].box), right[i] = acc;
+    const std::size_t candidates = std::min<std::size_t>(32, n - 1);
+    for (std::size_t c = 1; c <= candidates; ++c) {
+      const std::size_t cut = c * n / (candidates + 1);  // left = [0, cut)
+      if (cut < static_cast<std::size_t>(k_left) || n - cut < static_cast<std::size_t>(k_right)) continue;
+      const double cost = std::max(left[cut - 1].sphere_area_proxy() * cut / k_left,
+                                   right[cut].sphere_area_proxy() * (n - cut) / k_right);
+      if (cost < best) best = cost, best_axis = axis, best_cut = cut;
+    }
   }
-  const Vec3d ext = hi - lo;
-  const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-  const int k_left = k / 2;
-  const std::size_t n_left = prims.size() * k_left / k;
-  std::nth_element(prims.begin(), prims.begin() + n_left, prims.end(),
-                   [&](std::uint32_t a, std::uint32_t b) {
-                     const double ca = centroid(m, a)[axis], cb = centroid(m, b)[axis];
-                     return ca < cb || (ca == cb && a < b);
-                   });
-  std::vector<std::uint32_t> left(prims.begin(), prims.begin() + n_left);
-  std::vector<std::uint32_t> right(prims.begin() + n_left, prims.end());
-  split(m, std::move(left), k_left, out);
-  split(m, std::move(right), k - k_left, out);
+  std::sort(p.begin(), p.end(), [best_axis](const Prim& a, const Prim& b) {
+    return a.centroid[best_axis] < b.centroid[best_axis] || (a.centroid[best_axis] == b.centroid[best_axis] && a.id < b.id);
+  });
+  best_cut = std::clamp<std::size_t>(best_cut, 1, n - 1);
+  std::vector<Prim> l(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(best_cut));
+  std::vector<Prim> r(p.begin() + static_cast<std::ptrdiff_t>(best_cut), p.end());
+  split(std::move(l), k_left, out);
+  split(std::move(r), k_right, out);
 }
+
+// The first rule: cut at the median count along the longest centroid extent.
+void split_median(std::vector<Prim> p, int k, std::vector<std::vector<std::uint32_t>>& out) {
+  if (k <= 1 || p.size() <= 1) {
+    std::vector<std::uint32_t> ids;
+    for (const Prim& q : p) ids.push_back(q.id);
+    out.push_back(std::move(ids));
+    return;
+  }
+  Box c;
+  for (const Prim& q : p) c.add(q.centroid);
+  const Vec3d e = c.hi - c.lo;
+  const int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
+  const int k_left = k / 2;
+  const std::size_t n_left = p.size() * k_left / k;
+  std::nth_element(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(n_left), p.end(), [axis](const Prim& a, const Prim& b) {
+    return a.centroid[axis] < b.centroid[axis] || (a.centroid[axis] == b.centroid[axis] && a.id < b.id);
+  });
+  std::vector<Prim> l(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(n_left));
+  std::vector<Prim> r(p.begin() + static_cast<std::ptrdiff_t>(n_left), p.end());
+  split_median(std::move(l), k_left, out);
+  split_median(std::move(r), k - k_left, out);
+}
+
 }  // namespace
 
-std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, int k) {
-  std::vector<std::uint32_t> all(mesh.triangles.size());
-  std::iota(all.begin(), all.end(), 0u);
-  const int clusters = std::min<int>(k, static_cast<int>(all.size()));
+std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, int k, SplitRule rule) {
+  std::vector<Prim> prims;
+  prims.reserve(mesh.triangles.size());
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+    Prim q{t, Vec3d(0), {}};
+    for (std::uint32_t v : mesh.triangles[t]) {
+      q.centroid += mesh.vertices[v] / 3.0;
+      q.box.add(mesh.vertices[v]);
+    }
+    prims.push_back(q);
+  }
+  const int clusters = std::min<int>(k, static_cast<int>(prims.size()));
   std::vector<std::vector<std::uint32_t>> out;
-  split(mesh, std::move(all), clusters, out);
+  if (rule == SplitRule::median) split_median(std::move(prims), clusters, out);
+  else split(std::move(prims), clusters, out);
   out.erase(std::remove_if(out.begin(), out.end(), [](const auto& c) { return c.empty(); }), out.end());
   for (auto& c : out) std::sort(c.begin(), c.end());
   return out;
+}
+
+SplitRule split_rule_from_env() {
+  const char* e = std::getenv("OPRT_SPLIT_RULE");
+  return e && std::string(e) == "median" ? SplitRule::median : SplitRule::balanced_san;
 }
 
 }  // namespace oprt

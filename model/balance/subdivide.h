@@ -5,12 +5,21 @@
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace oprt {
 
+enum class SplitRule {
+  balanced_san,  // equal SA x N per cluster (the default; see subdivide.cpp)
+  median,        // equal counts along the longest axis (for comparison)
+};
+
 // K non-empty clusters (fewer if the object has fewer than K triangles); every triangle
 // in exactly one. Deterministic.
-std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, int k);
+std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, int k, SplitRule rule = SplitRule::balanced_san);
+
+// OPRT_SPLIT_RULE=median selects the comparison rule (experiments only).
+SplitRule split_rule_from_env();
 
 }  // namespace oprt

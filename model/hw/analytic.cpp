@@ -40,15 +40,16 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
 
   Cycles g = 0;  // the GPP's time
   // Object memories: loaded before the animation (not part of a frame); geometry moved by a
-  // later assignment change is written inside the frame (Gpp::load_memories).
+  // later assignment change, and deforming geometry, is written inside the frame
+  // (Gpp::load_memories).
   const bool first = loaded_.empty();
   loaded_.resize(units);
   for (std::size_t u = 0; u < units; ++u) {
-    if (loaded_[u] == assignment_[u]) continue;
     std::uint64_t bytes = 0;
     for (std::uint32_t s : assignment_[u])
-      if (std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())
+      if (geom_.deforming[s] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())
         bytes += static_cast<std::uint64_t>(geom_.triangles_in(s)) * Bytes<T>::triangle;
+    if (loaded_[u] == assignment_[u] && bytes == 0) continue;
     out.memory_load_bytes += bytes;
     if (!first) g = transfer(g, bytes);
     loaded_[u] = assignment_[u];

@@ -183,16 +183,17 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd, const Shader<T>& 
 // Object memories hold the geometry of their unit's spheres. Before the animation (the first
 // frame) every memory is loaded: set-up, outside the frame's time. When a later frame's
 // assignment moves spheres, the geometry a unit gains is written into its memory over the
-// bus before the frame's rays: that transfer is part of the frame.
+// bus before the frame's rays: that transfer is part of the frame. Non-rigid (deforming)
+// spheres are rewritten every frame.
 template <typename T>
 void Gpp<T>::load_memories() {
   loaded_.resize(assignment_.size());
   for (std::size_t u = 0; u < assignment_.size(); ++u) {
-    if (loaded_[u] == assignment_[u]) continue;
     std::uint64_t bytes = 0;
     for (std::uint32_t s : assignment_[u])
-      if (std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())
+      if (geom_.deforming[s] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())
         bytes += static_cast<std::uint64_t>(geom_.triangles_in(s)) * Bytes<T>::triangle;
+    if (loaded_[u] == assignment_[u] && bytes == 0) continue;
     MemoryLoadPacket packet{assignment_[u]};
     stats_.memory_load_bytes += bytes;
     write(addr::iu_window(static_cast<int>(u)) + addr::iu_memory, &packet, static_cast<unsigned>(bytes));

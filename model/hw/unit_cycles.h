@@ -4,7 +4,7 @@
 #pragma once
 
 #include "hw/arch.h"
-#include "hw/object_memory.h"
+#include "hw/memory_timing.h"
 #include "hw/payloads.h"
 #include "ref/traverse.h"
 

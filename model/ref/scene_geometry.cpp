@@ -1,10 +1,68 @@
 #include "ref/scene_geometry.h"
 
+#include "geom/bounding_sphere.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace oprt {
+
+namespace {
+// The sphere enclosing triangles as stored in T, rounded up (see build_geometry).
+template <typename T>
+Sphere<T> enclosing(const Sphere<double>& minimal, const std::vector<Vec3d>& stored) {
+  double r = minimal.r;
+  Sphere<T> s;
+  s.c = Vec3<T>(minimal.c);
+  for (const Vec3d& v : stored) {
+    const Vec3d d = v - minimal.c;
+    r = std::fmax(r, std::sqrt(dot3(d, d)));
+  }
+  const Vec3d shift = Vec3d(s.c) - minimal.c;
+  r += std::sqrt(dot3(shift, shift));
+  s.r = static_cast<T>(r);
+  if (static_cast<double>(s.r) < r) s.r = std::nextafter(s.r, kInf<T>);
+  return s;
+}
+
+template <typename T>
+void write_triangle(MollerSoA<T>& soa, std::size_t i, const MollerTriangle<T>& t) {
+  const Vec3<T>* v[4] = {&t.v0, &t.e1, &t.e2, &t.n};
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 3; ++j) soa.c[3 * k + j][i] = (*v[k])[j];
+}
+}  // namespace
+
+bool has_deforming(const Scene& scene) {
+  for (const Object& o : scene.objects)
+    if (o.deform) return true;
+  return false;
+}
+
+template <typename T>
+std::uint64_t update_deforming(SceneGeometry<T>& g, const Scene& scene, int frame) {
+  std::uint64_t bytes = 0;
+  std::vector<Vec3d> verts, stored;
+  for (std::uint32_t s = 0; s < g.sphere_count(); ++s) {
+    if (!g.deforming[s]) continue;
+    const Object& obj = scene.objects[g.object[s]];
+    obj.deform->at(frame, verts);
+    stored.clear();
+    std::vector<Vec3d> points;
+    for (std::uint32_t k = g.first[s]; k < g.first[s + 1]; ++k) {
+      const Tri& t = obj.mesh.triangles[g.prim[k]];
+      write_triangle(g.tris, k, prepare_moller<T>(verts[t[0]], verts[t[1]], verts[t[2]]));
+      for (std::uint32_t v : t) {
+        points.push_back(verts[v]);
+        stored.push_back(Vec3d(Vec3<T>(verts[v])));
+      }
+    }
+    g.local_sphere[s] = enclosing<T>(minimal_sphere(points), stored);
+    bytes += static_cast<std::uint64_t>(g.triangles_in(s)) * SceneGeometry<T>::kTriangleBytes;
+  }
+  return bytes;
+}
 
 template <typename T>
 SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs) {
@@ -20,6 +78,7 @@ SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs)
     if (!std::is_sorted(d.prims.begin(), d.prims.end()))
       throw std::logic_error("build_geometry: sphere primitives must be in ascending order");
     g.object.push_back(d.object);
+    g.deforming.push_back(scene.objects[d.object].deform ? 1 : 0);
     g.first.push_back(static_cast<std::uint32_t>(g.tris.size()));
     // The stored vertices are rounded to T; the sphere must enclose the rounded ones.
     double r = d.local.r;
@@ -50,5 +109,7 @@ SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs)
 
 template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>);
 template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>);
+template std::uint64_t update_deforming(SceneGeometry<float>&, const Scene&, int);
+template std::uint64_t update_deforming(SceneGeometry<double>&, const Scene&, int);
 
 }  // namespace oprt

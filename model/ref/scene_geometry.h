@@ -24,6 +24,7 @@ struct SceneGeometry {
   std::vector<std::uint32_t> first;      // per sphere: first triangle in `tris`; size + 1
   MollerSoA<T> tris;                     // grouped by sphere, each sphere's in prim order
   std::vector<std::uint32_t> prim;       // per stored triangle: index in the object's mesh
+  std::vector<char> deforming;           // per sphere: its object's vertices move (BART tpa)
 
   std::uint32_t sphere_count() const { return static_cast<std::uint32_t>(object.size()); }
   std::uint32_t triangles_in(std::uint32_t s) const { return first[s + 1] - first[s]; }
@@ -34,7 +35,16 @@ struct SceneGeometry {
 template <typename T>
 SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs);
 
+// For scenes with non-rigid objects: rewrite the deforming spheres' triangles and local
+// spheres for frame f (the clusters, fixed at frame 0, keep their triangles). Between
+// frames only. Returns the bytes rewritten (what object memory receives).
+template <typename T>
+std::uint64_t update_deforming(SceneGeometry<T>& g, const Scene& scene, int frame);
+bool has_deforming(const Scene& scene);
+
 extern template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>);
 extern template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>);
+extern template std::uint64_t update_deforming(SceneGeometry<float>&, const Scene&, int);
+extern template std::uint64_t update_deforming(SceneGeometry<double>&, const Scene&, int);
 
 }  // namespace oprt

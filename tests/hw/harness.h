@@ -31,8 +31,8 @@ Run simulate_scene(const Scene& scene, const Arch& arch, FrameRange frames, int 
   r.job.vcd_path = vcd;
   r.job.write_files = false;
   r.job.keep_results = true;
-  r.job.assignment = static_assignment(arch.balance, r.spheres, units_for(r.spheres.size(), arch.ius));
-  const SceneGeometry<T> g = build_geometry<T>(scene, r.spheres);
+  r.job.assignment = static_assignment(arch.balance, scene, r.spheres, units_for(r.spheres.size(), arch.ius));
+  SceneGeometry<T> g = build_geometry<T>(scene, r.spheres);
   simulate<T>(r.job, g);
   return r;
 }

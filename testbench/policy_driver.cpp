@@ -1,0 +1,50 @@
+#include "policy_driver.h"
+
+#include "balance/dynamic.h"
+#include "ref/frame_setup.h"
+
+namespace oprt {
+
+template <typename T>
+PolicyDriver<T>::PolicyDriver(const Scene& scene, const SceneGeometry<T>& g, const Arch& arch, Assignment initial,
+                              int width, int height)
+    : scene_(scene), geom_(g), arch_(arch), current_(std::move(initial)), width_(width), height_(height) {
+  for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
+    bytes_.push_back(static_cast<std::uint64_t>(g.triangles_in(s)) * hw::Bytes<T>::triangle);
+}
+
+template <typename T>
+const Assignment& PolicyDriver<T>::for_frame(int f, const hw::FrameRun* previous) {
+  if (!dynamic()) return current_;
+  std::vector<double> w;
+  if (arch_.balance == "feedback") {
+    if (!previous) return current_;  // the first frame: sa_n, the initial assignment
+    w.assign(geom_.sphere_count(), 0);
+    for (const hw::UnitRun& u : previous->units)
+      for (int k = 0; k < kRayKinds; ++k)
+        for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s)
+          w[s] += static_cast<double>(hw::work_cycles(u.per_sphere[k][s], arch_.costs).busy());
+  } else {
+    const FrameSetup<T> setup = setup_frame(scene_, geom_, f);
+    std::vector<Sphere<double>> world;
+    std::vector<std::size_t> prims;
+    for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s) {
+      world.push_back({Vec3d(setup.world_sphere[s].c), static_cast<double>(setup.world_sphere[s].r)});
+      prims.push_back(geom_.triangles_in(s));
+    }
+    ViewCostModel m;
+    m.sphere_cycles = arch_.costs.sphere;
+    m.transform_cycles = arch_.costs.transform;
+    // Most tests exit early: the mean of the stage costs is a fair single number.
+    m.triangle_cycles = 0;
+    for (auto c : arch_.costs.tri_stage) m.triangle_cycles += c / double(kTriStages);
+    w = view_weights(world, prims, setup.camera, width_, height_, scene_.lights, m);
+  }
+  current_ = keep_in_place(assign_weighted(w, current_.units()), current_, bytes_);
+  return current_;
+}
+
+template class PolicyDriver<float>;
+template class PolicyDriver<double>;
+
+}  // namespace oprt
