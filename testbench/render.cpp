@@ -42,7 +42,7 @@ void not_yet(bool unsupported, const std::string& what) {
 
 template <typename T>
 int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
-  const auto spheres = make_spheres(scene, job.arch.subdivide);
+  const auto spheres = make_spheres(scene, job.arch.subdivide, split_rule_named(job.arch.split_rule));
   const std::size_t units = units_for(spheres.size(), static_cast<std::size_t>(job.arch.ius));
   if (units < static_cast<std::size_t>(job.arch.ius))
     std::printf("oprt: %d intersection units requested, the scene has %zu spheres: instantiating %zu units\n",

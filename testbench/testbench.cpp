@@ -58,6 +58,7 @@ class Testbench : public sc_module {
   }
 
   void frames() {
+    bool set_up = false;
     for (int f = job_.frames.first; f <= job_.frames.last; ++f) {
       frame_ = f;
       const auto t0 = std::chrono::steady_clock::now();
@@ -65,6 +66,11 @@ class Testbench : public sc_module {
       if (deforming_) update_deforming(geometry_, *job_.scene, f);
       job_.assignment = policy_->for_frame(f, previous_ ? &*previous_ : nullptr);
       engine_->assign(job_.assignment);
+      if (!set_up) {  // load the object memories before the animation, outside every frame
+        engine_->setup();
+        reset_stats();
+        set_up = true;
+      }
       FrameImage image(job_.width, job_.height);
       hw::FrameCommand cmd = frame_command(job_, f, image);
       engine_->run_frame(cmd);
@@ -149,6 +155,7 @@ void run_analytic(RenderJob& job, SceneGeometry<T>& geometry) {
     if (deforming) update_deforming(geometry, *job.scene, f);
     job.assignment = policy.for_frame(f, previous ? &*previous : nullptr);
     engine.assign(job.assignment);
+    if (f == job.frames.first) engine.setup();
     FrameImage image(job.width, job.height);
     previous = engine.run_frame(frame_command(job, f, image));
     const hw::FrameRun& run = *previous;

@@ -15,7 +15,7 @@ Sphere<double> bound_triangles(const Mesh& mesh, const std::vector<std::uint32_t
   return minimal_sphere(pts);
 }
 
-std::vector<SphereDef> make_spheres(const Scene& scene, int k) {
+std::vector<SphereDef> make_spheres(const Scene& scene, int k, SplitRule rule) {
   std::vector<SphereDef> out;
   for (std::uint32_t o = 0; o < scene.objects.size(); ++o) {
     const Mesh& mesh = scene.objects[o].mesh;
@@ -24,7 +24,7 @@ std::vector<SphereDef> make_spheres(const Scene& scene, int k) {
       clusters.emplace_back(mesh.triangles.size());
       std::iota(clusters.back().begin(), clusters.back().end(), 0u);
     } else {
-      clusters = subdivide(mesh, k, split_rule_from_env());
+      clusters = subdivide(mesh, k, rule);
     }
     for (auto& prims : clusters) {
       SphereDef d;

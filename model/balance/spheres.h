@@ -2,6 +2,7 @@
 // frame: one per object, or K per object with --subdivide K (subdivide.cpp).
 #pragma once
 
+#include "balance/subdivide.h"
 #include "geom/sphere.h"
 #include "scene/scene.h"
 
@@ -21,7 +22,7 @@ struct SphereDef {
 };
 
 // Spheres in scene order: object 0's spheres first. K = 1 is the paper's evaluation.
-std::vector<SphereDef> make_spheres(const Scene& scene, int subdivide_k);
+std::vector<SphereDef> make_spheres(const Scene& scene, int subdivide_k, SplitRule rule = SplitRule::balanced_san);
 
 // Minimal enclosing sphere of a set of an object's triangles.
 Sphere<double> bound_triangles(const Mesh& mesh, const std::vector<std::uint32_t>& prims);

@@ -1,7 +1,6 @@
 #include "balance/subdivide.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <limits>
 #include <numeric>
 
@@ -126,9 +125,8 @@ std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, int k, Split
   return out;
 }
 
-SplitRule split_rule_from_env() {
-  const char* e = std::getenv("OPRT_SPLIT_RULE");
-  return e && std::string(e) == "median" ? SplitRule::median : SplitRule::balanced_san;
+SplitRule split_rule_named(const std::string& name) {
+  return name == "median" ? SplitRule::median : SplitRule::balanced_san;
 }
 
 }  // namespace oprt

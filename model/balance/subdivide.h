@@ -19,7 +19,6 @@ enum class SplitRule {
 // in exactly one. Deterministic.
 std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, int k, SplitRule rule = SplitRule::balanced_san);
 
-// OPRT_SPLIT_RULE=median selects the comparison rule (experiments only).
-SplitRule split_rule_from_env();
+SplitRule split_rule_named(const std::string& name);  // "balanced" | "median"
 
 }  // namespace oprt

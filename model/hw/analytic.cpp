@@ -39,10 +39,8 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   };
 
   Cycles g = 0;  // the GPP's time
-  // Object memories: loaded before the animation (not part of a frame); geometry moved by a
-  // later assignment change, and deforming geometry, is written inside the frame
-  // (Gpp::load_memories).
-  const bool first = loaded_.empty();
+  // Geometry moved by an assignment change, and deforming geometry, is written into object
+  // memory inside the frame (as Gpp::load_memories does); setup() loaded the rest.
   loaded_.resize(units);
   for (std::size_t u = 0; u < units; ++u) {
     std::uint64_t bytes = 0;
@@ -51,12 +49,8 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
         bytes += static_cast<std::uint64_t>(geom_.triangles_in(s)) * Bytes<T>::triangle;
     if (loaded_[u] == assignment_[u] && bytes == 0) continue;
     out.memory_load_bytes += bytes;
-    if (!first) g = transfer(g, bytes);
+    g = transfer(g, bytes);
     loaded_[u] = assignment_[u];
-  }
-  if (first) {  // set-up traffic is not part of the frame's figures
-    bus.clear();
-    out.bus_busy = out.bus_bytes = out.bus_transfers = 0;
   }
 
   const FrameSetup<T> setup = setup_frame(scene_, geom_, cmd.frame, cmd.to_world, cmd.camera);

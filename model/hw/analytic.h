@@ -45,6 +45,8 @@ class AnalyticEngine {
   AnalyticEngine(const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch)
       : scene_(scene), geom_(geometry), arch_(arch) {}
   void assign(const Assignment& a) { assignment_ = a.unit; }
+  // Before the animation: object memories hold their units' geometry (no time, no stats).
+  void setup() { loaded_ = assignment_; }
   // Renders cmd.image and returns the frame's timing.
   FrameRun run_frame(const FrameCommand& cmd);
 

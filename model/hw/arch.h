@@ -44,6 +44,7 @@ struct Arch {
   double quantum_ns = 1000;
   std::string balance = "paper";
   int subdivide = 1;
+  std::string split_rule = "balanced";  // how --subdivide splits an object (balance/subdivide.cpp)
   std::string accel = "brute";
   std::string kernel = "moller";
   std::string precision = "float";

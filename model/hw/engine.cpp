@@ -61,6 +61,13 @@ void Engine<T>::run_frame(FrameCommand& cmd) {
   if (command_.is_response_error()) SC_REPORT_FATAL(name(), "frame command failed");
 }
 
+template <typename T>
+void Engine<T>::setup() {
+  FrameCommand cmd;
+  cmd.setup_only = true;
+  run_frame(cmd);
+}
+
 template class Engine<float>;
 template class Engine<double>;
 

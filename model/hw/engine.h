@@ -36,6 +36,8 @@ class Engine : public sc_core::sc_module {
 
   // Run one frame to completion; call from an SC_THREAD (the testbench's).
   void run_frame(FrameCommand& cmd);
+  // Before the first frame: load the object memories (not part of any frame).
+  void setup();
   // Spheres per unit for the next frames (assignment.units() must equal units()).
   void assign(const Assignment& a);
 

@@ -45,7 +45,8 @@ void Gpp<T>::run() {
   for (;;) {
     wait(request_);
     clock_.resync();
-    render_frame(*command_);
+    if (command_->setup_only) load_memories();
+    else render_frame(*command_);
     clock_.sync();
     done_.notify();
   }
@@ -180,8 +181,8 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd, const Shader<T>& 
   trace_in_flight();
 }
 
-// Object memories hold the geometry of their unit's spheres. Before the animation (the first
-// frame) every memory is loaded: set-up, outside the frame's time. When a later frame's
+// Object memories hold the geometry of their unit's spheres. Before the animation the
+// set-up command loads every memory, outside any frame. When a later frame's
 // assignment moves spheres, the geometry a unit gains is written into its memory over the
 // bus before the frame's rays: that transfer is part of the frame. Non-rigid (deforming)
 // spheres are rewritten every frame.
@@ -204,10 +205,8 @@ void Gpp<T>::load_memories() {
 template <typename T>
 void Gpp<T>::render_frame(const FrameCommand& cmd) {
   stats_ = GppStats{};
-  const bool first = loaded_.empty();
-  if (first) load_memories();
   stats_.start = clock_.now();
-  if (!first) load_memories();
+  load_memories();  // geometry that moved or deforms (the set-up command loaded the rest)
   if (vcd_) vcd_->change(vcd_frame_, stats_.start.value(), static_cast<std::uint64_t>(cmd.frame));
   const FrameSetup<T> setup = setup_frame(scene_, geom_, cmd.frame, cmd.to_world, cmd.camera);
 

@@ -67,6 +67,9 @@ struct ConfigPacket {
 
 // The host's command for one frame (the data of a write to the GPP's host socket).
 struct FrameCommand {
+  // Set-up before the animation: load every object memory with its unit's geometry (not
+  // part of any frame's time or statistics), then return.
+  bool setup_only = false;
   int frame = 0;
   std::vector<Affine<double>> to_world;  // per object
   Camera camera;

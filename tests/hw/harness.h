@@ -22,7 +22,7 @@ template <typename T>
 Run simulate_scene(const Scene& scene, const Arch& arch, FrameRange frames, int width, int height,
                    const std::string& vcd = "") {
   Run r;
-  r.spheres = make_spheres(scene, arch.subdivide);
+  r.spheres = make_spheres(scene, arch.subdivide, split_rule_named(arch.split_rule));
   r.job.scene = &scene;
   r.job.arch = arch;
   r.job.frames = frames;
