@@ -1,6 +1,8 @@
 // The oprt subcommands (main.cpp parses the command line and dispatches here).
 #pragma once
 
+#include "scene/load.h"
+
 #include <string>
 
 namespace oprt {
@@ -13,6 +15,7 @@ struct CommonOptions {
   std::string precision = "float";
   int subdivide = 1;
   bool schedules = false;
+  LoadOptions load;
 };
 
 int run_info(const CommonOptions& o);

@@ -21,7 +21,7 @@ int run_info(const CommonOptions& o) {
     if (o.scene.empty()) return 0;
   }
   if (o.scene.empty()) throw InputError("oprt info", "SCENE", "a scene file is required (or --schedules)");
-  const Scene scene = load_scene(o.scene);
+  const Scene scene = load_scene(o.scene, o.load);
   const auto spheres = make_spheres(scene, o.subdivide);
   std::printf("scene       %s\n", o.scene.c_str());
   std::printf("image       %dx%d, %d frame%s, %zu light%s\n", scene.width, scene.height, scene.frame_count,

@@ -18,12 +18,27 @@ int main(int argc, char** argv) {
   CommonOptions opt;
 
   auto add_scene = [&](CLI::App* sub) {
-    sub->add_option("SCENE", opt.scene, "scene file (.json)")->required();
+    sub->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)")->required();
+  };
+  // How a BART .aff scene becomes objects (docs/aff.md).
+  auto add_load_options = [](CLI::App* sub, LoadOptions& load) {
+    sub->add_option("--max-object-triangles", load.aff.max_object_triangles,
+                    "AFF: split static and rigid groups into objects of at most N triangles (0: never)")
+        ->check(CLI::Range(0, 1 << 30));
+    sub->add_option_function<unsigned>(
+           "--tessellation",
+           [&load](unsigned n) {
+             load.aff.sphere_segments = load.aff.cone_segments = n;
+             load.aff.sphere_rings = n / 2;
+           },
+           "AFF: spheres get N segments and N/2 rings, cones N segments (default 16)")
+        ->check(CLI::Range(4, 4096));
   };
   auto* info = app.add_subcommand("info", "print the scene, its bounding spheres and their SA x N");
   info->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)");
   info->add_flag("--schedules", opt.schedules, "print the IU operations' cycle schedules");
   info->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
+  add_load_options(info, opt.load);
 
   auto* ref = app.add_subcommand("reference", "render with the untimed functional reference");
   add_scene(ref);
@@ -32,6 +47,7 @@ int main(int argc, char** argv) {
   ref->add_option("--resolution", opt.resolution, "WxH; default: the scene's");
   ref->add_option("--out", opt.out, "output directory");
   ref->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
+  add_load_options(ref, opt.load);
 
   RenderOptions ro;
   auto* render = app.add_subcommand("render", "render with the timed SystemC model");
@@ -51,6 +67,7 @@ int main(int argc, char** argv) {
   render->add_option("--out", ro.out, "output directory");
   render->add_option("--vcd", ro.vcd, "write a VCD trace to this file");
   render->add_flag("!--no-progress", ro.progress, "no progress bar");
+  add_load_options(render, ro.load);
 
   try {
     app.parse(argc, argv);

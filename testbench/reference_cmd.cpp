@@ -83,7 +83,7 @@ int reference(const CommonOptions& o, const Scene& scene) {
 }  // namespace
 
 int run_reference(const CommonOptions& o) {
-  const Scene scene = load_scene(o.scene);
+  const Scene scene = load_scene(o.scene, o.load);
   return o.precision == "double" ? reference<double>(o, scene) : reference<float>(o, scene);
 }
 

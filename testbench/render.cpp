@@ -68,6 +68,10 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
                 {"units", units},
                 {"resolution", {job.width, job.height}},
                 {"arch", to_json(job.arch)}};
+  job.header["load_options"] = {{"aff_max_object_triangles", o.load.aff.max_object_triangles},
+                                {"aff_sphere_segments", o.load.aff.sphere_segments},
+                                {"aff_sphere_rings", o.load.aff.sphere_rings},
+                                {"aff_cone_segments", o.load.aff.cone_segments}};
   if (job.arch.level == Level::analytic) {  // no SystemC at all
     simulate<T>(job, geometry);
     return 0;
@@ -91,7 +95,7 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
 
 int run_render(const RenderOptions& o) {
   ::setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 0);
-  const Scene scene = load_scene(o.scene);
+  const Scene scene = load_scene(o.scene, o.load);
   RenderJob job;
   job.scene = &scene;
   job.arch = resolve_arch(o);

@@ -5,6 +5,7 @@
 
 #include "hw/arch.h"
 #include "options.h"
+#include "scene/load.h"
 
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@ struct RenderOptions {
   std::optional<int> ius, subdivide;
   std::optional<std::string> level, quantum, balance, accel, kernel, precision;
   bool progress = true;  // on a terminal only
+  LoadOptions load;
 };
 
 int run_render(const RenderOptions& o);

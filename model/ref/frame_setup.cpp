@@ -53,6 +53,10 @@ FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int fra
   }
   const double margin = 64 * static_cast<double>(std::numeric_limits<T>::epsilon()) * magnitude;
   f.world_sphere.resize(g.sphere_count());
+  // Visibility comes with the frame's animation like the matrices (BART's visibility keys).
+  f.visible.resize(g.sphere_count());
+  for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
+    f.visible[s] = scene.objects[g.object[s]].motion->visible(frame);
   for (std::uint32_t s = 0; s < g.sphere_count(); ++s) {
     f.world_sphere[s].c = Vec3<T>(world[s].c);
     const double r = world[s].r + margin;

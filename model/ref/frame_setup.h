@@ -15,6 +15,7 @@ struct FrameSetup {
   std::vector<Placement> placement;     // per object, double (the GPP's own copy)
   std::vector<Affine<T>> to_local;      // per object, as the IU registers hold it
   std::vector<Sphere<T>> world_sphere;  // per sphere
+  std::vector<char> visible;            // per sphere: its object takes part in this frame
 };
 
 // Throws InputError if an object's matrix at this frame is not invertible.

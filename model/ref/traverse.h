@@ -44,10 +44,12 @@ struct IuRegisters {
 
   std::size_t size() const { return sphere.size(); }
   void load(const FrameSetup<T>& f, const SceneGeometry<T>& g, const std::vector<std::uint32_t>& spheres) {
-    sphere = spheres;
+    sphere.clear();
     world.clear();
     to_local.clear();
     for (std::uint32_t s : spheres) {
+      if (!f.visible[s]) continue;  // hidden this frame: the GPP does not write it
+      sphere.push_back(s);
       world.push_back(f.world_sphere[s]);
       to_local.push_back(f.to_local[g.object[s]]);
     }

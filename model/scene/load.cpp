@@ -8,12 +8,12 @@
 
 namespace oprt {
 
-Scene load_scene(const std::string& path) {
+Scene load_scene(const std::string& path, const LoadOptions& options) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (!std::filesystem::exists(path)) throw InputError(path, "", "no such file");
   if (ext == ".json") return load_oprt_json(path);
-  if (ext == ".aff") return load_aff(path);
+  if (ext == ".aff") return load_aff(path, options.aff);
   if (ext == ".gltf" || ext == ".glb") return load_gltf(path);
   throw InputError(path, "", "unknown scene format \"" + ext + "\" (expected .json, .aff, .gltf or .glb)");
 }

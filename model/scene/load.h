@@ -2,13 +2,21 @@
 // .aff (BART), .gltf / .glb (glTF 2.0). Every failure is an InputError.
 #pragma once
 
+#include "scene/aff.h"
 #include "scene/scene.h"
 
 #include <string>
 
 namespace oprt {
 
-Scene load_scene(const std::string& path);
+// How formats that need choices are read (today only BART .aff: its tessellation of spheres
+// and cones, and the size above which a group is split into several objects). The command
+// line sets them with --tessellation and --max-object-triangles.
+struct LoadOptions {
+  AffOptions aff;
+};
+
+Scene load_scene(const std::string& path, const LoadOptions& options = {});
 Scene load_oprt_json(const std::string& path);
 // glTF 2.0 rigid node animation; load_gltf.cpp says what maps to what.
 Scene load_gltf(const std::string& path);

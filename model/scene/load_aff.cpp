@@ -247,6 +247,16 @@ struct Anim {
   std::optional<KbRotSpline> rot;
   std::vector<std::pair<double, bool>> visibility;
   bool moves() const { return transl || rot || scale; }
+  // A visibility key holds from its time until the next key; before the first key the
+  // group is visible (BART's objects are visible unless a key hides them).
+  bool visible(double t) const {
+    bool v = true;
+    for (const auto& [time, flag] : visibility) {
+      if (time > t) break;
+      v = flag;
+    }
+    return v;
+  }
 
   // BART's _GetMatrix: T R S.
   Affine<double> matrix(double t) const {
@@ -276,6 +286,12 @@ class AffMotion final : public Motion {
  public:
   AffMotion(std::vector<Link> chain, Clock clock) : chain_(std::move(chain)), clock_(clock) {
     for (const Link& l : chain_) animated_ = animated_ || (l.anim && l.anim->moves());
+  }
+  bool visible(double frame) const override {
+    const double t = clock_.time(frame);
+    for (const Link& l : chain_)
+      if (l.anim && !l.anim->visible(t)) return false;
+    return true;
   }
   Affine<double> at(double frame) const override {
     const double t = clock_.time(frame);
@@ -1089,8 +1105,6 @@ Scene AffReader::read(const std::string& path) {
     const AnimPtr a = find_anim(n.name);
     if (a) {
       used_anims.insert(n.name);
-      if (!a->visibility.empty())
-        note("visibility keyframes of '" + n.name + "' ignored: the object is always visible");
     } else {
       note("transform 'x " + n.name + "' has no keyframes ('k " + n.name + "'): it stays as placed");
     }
@@ -1099,13 +1113,14 @@ Scene AffReader::read(const std::string& path) {
   };
   auto motion_of = [&](int ctx) -> MotionPtr {
     const auto& c = chain(ctx);
-    bool moves = false;
+    bool moves = false, hides = false;
     Affine<double> fixed = Affine<double>::identity();
     for (const Link& l : c) {
       moves = moves || (l.anim && l.anim->moves());
+      hides = hides || (l.anim && !l.anim->visibility.empty());
       fixed = fixed * l.pre;
     }
-    if (!moves) return std::make_shared<StaticMotion>(fixed);
+    if (!moves && !hides) return std::make_shared<StaticMotion>(fixed);
     return std::make_shared<AffMotion>(c, clock_);
   };
 

@@ -21,6 +21,9 @@ class Motion {
   virtual Affine<double> at(double frame) const = 0;
   // False when at() is the same for every frame (lets the engine skip re-sending).
   virtual bool animated() const = 0;
+  // Whether the object takes part in the frame at all (BART's visibility keys). A hidden
+  // object's spheres are left out of the units' registers for that frame.
+  virtual bool visible(double /*frame*/) const { return true; }
 };
 using MotionPtr = std::shared_ptr<const Motion>;
 
@@ -62,6 +65,7 @@ class ComposedMotion final : public Motion {
   ComposedMotion(MotionPtr outer, MotionPtr inner) : outer_(std::move(outer)), inner_(std::move(inner)) {}
   Affine<double> at(double f) const override { return outer_->at(f) * inner_->at(f); }
   bool animated() const override { return outer_->animated() || inner_->animated(); }
+  bool visible(double f) const override { return outer_->visible(f) && inner_->visible(f); }
 
  private:
   MotionPtr outer_, inner_;
