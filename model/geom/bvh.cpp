@@ -57,8 +57,9 @@ struct Builder {
     }
     const double leaf_cost = p.triangle_cost * static_cast<double>(n);
     const bool must_split = n > static_cast<std::size_t>(p.max_leaf);
-    if (n > 1 && (depth >= p.sah_depth || !(area > 0))) {
-      // Object median along the widest centroid spread: bounds the depth.
+    if (n > 1 && (depth >= p.sah_depth || !(area > 0) || (must_split && !(best_cost < leaf_cost)))) {
+      // Object median along the widest centroid spread: bounds the depth (also where no
+      // split beats a leaf that is too large, e.g. coincident triangles).
       Box<double> cb;
       for (std::size_t i = first; i < end; ++i) cb.extend(centroid[items[i]]);
       const Vec3d e = cb.hi - cb.lo;
