@@ -120,7 +120,7 @@ TEST_CASE("bvh: reference images equal brute force on paper_room subdivided into
   check_paper_images<float>("paper_room.json", 32, 8);
 }
 
-TEMPLATE_TEST_CASE("bvh: triangle soups, hard rays: the same nearest hit and occlusion as brute force",
+TEMPLATE_TEST_CASE("bvh: on triangle soups with hard rays the nearest hit and occlusion equal brute force",
                    "[bvh][hard]", float, double) {
   using T = TestType;
   std::mt19937_64 rng(2024);
