@@ -13,6 +13,7 @@ struct CommonOptions {
   std::string resolution;
   std::string out = "out";
   std::string precision = "float";
+  std::string accel = "brute";
   int subdivide = 1;
   bool schedules = false;
   LoadOptions load;

@@ -47,6 +47,7 @@ int main(int argc, char** argv) {
   ref->add_option("--resolution", opt.resolution, "WxH; default: the scene's");
   ref->add_option("--out", opt.out, "output directory");
   ref->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
+  ref->add_option("--accel", opt.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
   add_load_options(ref, opt.load);
 
   RenderOptions ro;

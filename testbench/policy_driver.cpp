@@ -10,7 +10,7 @@ PolicyDriver<T>::PolicyDriver(const Scene& scene, const SceneGeometry<T>& g, con
                               int width, int height)
     : scene_(scene), geom_(g), arch_(arch), current_(std::move(initial)), width_(width), height_(height) {
   for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
-    bytes_.push_back(static_cast<std::uint64_t>(g.triangles_in(s)) * hw::Bytes<T>::triangle);
+    bytes_.push_back(g.memory_bytes(s));
 }
 
 template <typename T>

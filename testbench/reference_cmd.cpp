@@ -21,7 +21,9 @@ nlohmann::json work_json(const WorkCounts& w) {
           {"transforms", w.transforms},
           {"triangle_tests", w.tri_tests()},
           {"triangle_exit_stage", {w.tri_stage[0], w.tri_stage[1], w.tri_stage[2], w.tri_stage[3]}},
-          {"triangle_hits", w.tri_hits}};
+          {"triangle_hits", w.tri_hits},
+          {"box_setups", w.box_setups},
+          {"box_tests", w.box_tests}};
 }
 
 template <typename T>
@@ -30,13 +32,14 @@ int reference(const CommonOptions& o, const Scene& scene) {
   parse_resolution(o.resolution, width, height);
   const FrameRange frames = parse_frames(o.frames, scene);
   const auto t_build = std::chrono::steady_clock::now();
-  SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, o.subdivide));
+  SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, o.subdivide), accel_named(o.accel));
   const bool deforming = has_deforming(scene);
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
   std::filesystem::create_directories(o.out);
 
   nlohmann::json stats = {{"scene", o.scene},
                           {"precision", o.precision},
+                          {"accel", o.accel},
                           {"resolution", {width, height}},
                           {"spheres", g.sphere_count()},
                           {"triangles", scene.triangle_count()},
@@ -67,9 +70,11 @@ int reference(const CommonOptions& o, const Scene& scene) {
                                {"work", {{"primary", work_json(r.work.total(RayKind::primary))},
                                          {"shadow", work_json(r.work.total(RayKind::shadow))}}},
                                {"objects", per_object}});
-    std::printf("frame %4d  %.3f s  %llu rays (%llu primary, %llu shadow)  %.3g M triangle tests  -> %s\n", f,
+    std::printf("frame %4d  %.3f s  %llu rays (%llu primary, %llu shadow)  %.3g M triangle tests%s  -> %s\n", f,
                 wall, (unsigned long long)rays, (unsigned long long)r.work.rays[0],
-                (unsigned long long)r.work.rays[1], r.work.total().tri_tests() / 1e6, exr.c_str());
+                (unsigned long long)r.work.rays[1], r.work.total().tri_tests() / 1e6,
+                g.has_bvh() ? ("  " + std::to_string(r.work.total().box_tests) + " box tests").c_str() : "",
+                exr.c_str());
     std::fflush(stdout);
   }
   write_atomically((std::filesystem::path(o.out) / "reference.json").string(), [&](const std::string& tmp) {

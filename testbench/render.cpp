@@ -40,6 +40,18 @@ void not_yet(bool unsupported, const std::string& what) {
   if (unsupported) throw InputError("oprt render", what, "not implemented yet in this version of the model");
 }
 
+// Per sphere its BVH nodes' box areas and leaf sizes, for the sa_n weights.
+template <typename T>
+std::vector<std::vector<NodeArea>> node_areas(const SceneGeometry<T>& g) {
+  std::vector<std::vector<NodeArea>> out(g.sphere_count());
+  for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
+    for (std::uint32_t i = g.first_node[s]; i < g.first_node[s + 1]; ++i) {
+      const BvhNode<T>& n = g.nodes[i];
+      out[s].push_back({static_cast<double>(n.box.surface_area()), n.count});
+    }
+  return out;
+}
+
 template <typename T>
 int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
   const auto spheres = make_spheres(scene, job.arch.subdivide, split_rule_named(job.arch.split_rule));
@@ -49,17 +61,24 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
                 job.arch.ius, spheres.size(), units);
   // Dynamic policies start from sa_n (feedback has nothing measured before the first frame).
   const bool dynamic = job.arch.balance == "feedback" || job.arch.balance == "view";
+  SceneGeometry<T> geometry = build_geometry<T>(scene, spheres, accel_named(job.arch.accel));
   SaNCosts costs;
   costs.sphere = job.arch.costs.sphere;
   costs.transform = job.arch.costs.transform;
   costs.triangle = 0;
   for (auto c : job.arch.costs.tri_stage) costs.triangle += c / double(kTriStages);
+  costs.box_setup = job.arch.costs.box_setup;
+  costs.box = job.arch.costs.box;
+  if (geometry.has_bvh()) costs.bvh = node_areas(geometry);  // sa_n weighs the trees' SAH cost
   job.assignment = static_assignment(dynamic ? "sa_n" : job.arch.balance, scene, spheres, units, costs);
-  SceneGeometry<T> geometry = build_geometry<T>(scene, spheres);
+  const std::vector<double> weights = sa_n_weights(scene, spheres, costs);
   nlohmann::json sphere_info = nlohmann::json::array();
-  for (const SphereDef& d : spheres)
+  for (std::size_t s = 0; s < spheres.size(); ++s) {
+    const SphereDef& d = spheres[s];
     sphere_info.push_back({{"object", d.object}, {"primitives", d.prims.size()}, {"radius", d.local.r},
-                           {"center", {d.local.c.x, d.local.c.y, d.local.c.z}}, {"sa_n", d.sa_n()}});
+                           {"center", {d.local.c.x, d.local.c.y, d.local.c.z}}, {"sa_n", d.sa_n()},
+                           {"sa_n_weight", weights[s]}, {"bvh_nodes", geometry.nodes_in(static_cast<std::uint32_t>(s))}});
+  }
   job.header = {{"scene", o.scene},
                 {"sphere_list", sphere_info},
                 {"triangles", scene.triangle_count()},
@@ -101,7 +120,6 @@ int run_render(const RenderOptions& o) {
   job.arch = resolve_arch(o);
   if (job.arch.level == Level::analytic && !o.vcd.empty())
     throw InputError("--vcd", o.vcd, "the analytic level has no simulated signals to trace (use --level at or lt)");
-  not_yet(job.arch.accel == "bvh", "--accel bvh");
   not_yet(job.arch.kernel == "watertight", "--kernel watertight");
   job.width = scene.width;
   job.height = scene.height;

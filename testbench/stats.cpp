@@ -30,7 +30,9 @@ nlohmann::json work_json(const WorkCounts& w) {
           {"transforms", w.transforms},
           {"triangle_tests", w.tri_tests()},
           {"triangle_exit_stage", {w.tri_stage[0], w.tri_stage[1], w.tri_stage[2], w.tri_stage[3]}},
-          {"triangle_hits", w.tri_hits}};
+          {"triangle_hits", w.tri_hits},
+          {"box_setups", w.box_setups},
+          {"box_tests", w.box_tests}};
 }
 }  // namespace
 
@@ -44,6 +46,7 @@ nlohmann::json to_json(const FrameStats& f) {
                      {"cycles", {{"sphere", u.cycles.sphere},
                                  {"transform", u.cycles.transform},
                                  {"primitive", u.cycles.primitive},
+                                 {"box", u.cycles.box},
                                  {"idle", u.idle},
                                  {"stall", u.cycles.stall}}},
                      {"busy_cycles", u.cycles.busy()},
@@ -98,12 +101,15 @@ void StatsWriter::add(const FrameStats& f) {
   });
   write_atomically((dir / "stats.csv").string(), [&](const std::string& tmp) {
     std::ofstream out(tmp);
-    out << "frame,iu,spheres,primitives,rays,sphere,transform,primitive,idle,stall,busy,makespan,parallel_efficiency\n";
+    // box (--accel bvh) last, so that existing column positions stay.
+    out << "frame,iu,spheres,primitives,rays,sphere,transform,primitive,idle,stall,busy,makespan,parallel_efficiency,"
+           "box\n";
     for (const FrameStats& x : frames_)
       for (const UnitFrameStats& u : x.units)
         out << x.frame << ',' << u.id << ',' << u.spheres.size() << ',' << u.primitives << ',' << u.rays << ','
             << u.cycles.sphere << ',' << u.cycles.transform << ',' << u.cycles.primitive << ',' << u.idle << ','
-            << u.cycles.stall << ',' << u.cycles.busy() << ',' << x.makespan << ',' << x.efficiency() << '\n';
+            << u.cycles.stall << ',' << u.cycles.busy() << ',' << x.makespan << ',' << x.efficiency() << ','
+            << u.cycles.box << '\n';
     if (!out) throw std::runtime_error("cannot write " + tmp);
   });
 }

@@ -24,8 +24,17 @@ std::vector<double> sa_n_weights(const Scene& scene, const std::vector<SphereDef
   const double area = 4 * 3.14159265358979323846 * bound * bound;
   std::vector<double> w;
   w.reserve(spheres.size());
-  for (const SphereDef& s : spheres)
-    w.push_back(c.sphere + s.surface_area() / area * (c.transform + static_cast<double>(s.prims.size()) * c.triangle));
+  for (std::size_t i = 0; i < spheres.size(); ++i) {
+    const SphereDef& s = spheres[i];
+    if (c.bvh.empty()) {
+      w.push_back(c.sphere + s.surface_area() / area * (c.transform + static_cast<double>(s.prims.size()) * c.triangle));
+      continue;
+    }
+    double entered = s.surface_area() * (c.transform + c.box_setup + c.box);  // area x cycles
+    for (const NodeArea& n : c.bvh.at(i))
+      entered += n.area * (n.triangles ? n.triangles * c.triangle : 2 * c.box);
+    w.push_back(c.sphere + entered / area);
+  }
   return w;
 }
 

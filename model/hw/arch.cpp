@@ -63,9 +63,11 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   a.clock_mhz = root.number_or("clock_mhz", a.clock_mhz, 1e-3, 1e6);
   a.ius = static_cast<int>(root.integer_or("ius", a.ius, 1, 65536));
   if (auto c = root.find("costs")) {
-    c->only_keys({"sphere", "transform", "triangle"});
+    c->only_keys({"sphere", "transform", "triangle", "box", "box_setup"});
     if (auto v = c->find("sphere")) a.costs.sphere = cycles(*v);
     if (auto v = c->find("transform")) a.costs.transform = cycles(*v);
+    if (auto v = c->find("box")) a.costs.box = cycles(*v);
+    if (auto v = c->find("box_setup")) a.costs.box_setup = cycles(*v);
     if (auto v = c->find("triangle")) {
       auto items = v->items();
       if (items.size() != kTriStages)
@@ -111,7 +113,8 @@ nlohmann::json to_json(const Arch& a) {
           {"clock_mhz", a.clock_mhz},
           {"ius", a.ius},
           {"costs", {{"sphere", a.costs.sphere}, {"transform", a.costs.transform},
-                     {"triangle", {a.costs.tri_stage[0], a.costs.tri_stage[1], a.costs.tri_stage[2], a.costs.tri_stage[3]}}}},
+                     {"triangle", {a.costs.tri_stage[0], a.costs.tri_stage[1], a.costs.tri_stage[2], a.costs.tri_stage[3]}},
+                     {"box", a.costs.box}, {"box_setup", a.costs.box_setup}}},
           {"ray_fifo_depth", a.fifo_depth},
           {"bus", {{"model", to_string(a.bus.model)}, {"bytes_per_cycle", a.bus.bytes_per_cycle},
                    {"arbitration_cycles", a.bus.arbitration_cycles}}},

@@ -152,4 +152,45 @@ const OpGraph& moller_graph() {
   return g;
 }
 
+// The BVH's box set-up, once per entered sphere after the transform: the local ray's
+// reciprocal direction 1/d (geom/bvh.h box_ray). The unit has no divider: Newton-Raphson,
+// r' = r (2 - d r), from a seed read from a small ROM indexed by d's leading mantissa bits
+// (a table lookup, free like a flag), two iterations per component (an 8-bit seed gives
+// 16, then 32 bits: float's 24 with margin; a double datapath needs a third, 6 more
+// cycles: set costs.box_setup). The model takes the result to be the correctly rounded
+// 1/d, which kBoxSlack's argument assumes; a datapath must deliver that or widen the slack.
+// 12 multiplies, 6 adds: 12 cycles, the multiplier never idle after the first.
+const OpGraph& box_setup_graph() {
+  static const OpGraph g = [] {
+    OpGraph t{"box set-up (reciprocal direction, Newton-Raphson)", {"done"}, {}};
+    const char* ax[] = {"x", "y", "z"};
+    for (const char* a : ax) t.ops.push_back(mul(std::string("d*r0") + a));
+    for (const char* a : ax) t.ops.push_back(add(std::string("2-d*r0") + a, {std::string("d*r0") + a}));
+    for (const char* a : ax) t.ops.push_back(mul(std::string("r1") + a, {std::string("2-d*r0") + a}));
+    for (const char* a : ax) t.ops.push_back(mul(std::string("d*r1") + a, {std::string("r1") + a}));
+    for (const char* a : ax) t.ops.push_back(add(std::string("2-d*r1") + a, {std::string("d*r1") + a}));
+    for (const char* a : ax)
+      t.ops.push_back(mul(std::string("1/d") + a, {std::string("r1") + a, std::string("2-d*r1") + a}, 0));
+    return t;
+  }();
+  return g;
+}
+
+// Ray-box slab test (geom/bvh.h hit_box): per axis the near and far bounds (chosen by the
+// sign of 1/d: a multiplexer, free) minus the origin, times 1/d; t0 = max of the nears and
+// 0 (the 0 is a sign flag), t1 = min of the fars and the limit (the nearest hit so far, or
+// tmax); hit if t0 <= K t1 (K = kBoxSlack, one multiply). A max or min is a comparison (a
+// subtraction) and a multiplexer. 12 adds and 7 multiplies: 13 cycles, the adder the
+// bottleneck; the comparisons come last, so an earlier exit would save little.
+const OpGraph& box_graph() {
+  static const OpGraph g{"box test (slabs, conservative)", {"done"}, {
+      add("nx-ox"), add("fx-ox"), add("ny-oy"), add("fy-oy"), add("nz-oz"), add("fz-oz"),
+      mul("tnx", {"nx-ox"}), mul("tfx", {"fx-ox"}), mul("tny", {"ny-oy"}), mul("tfy", {"fy-oy"}),
+      mul("tnz", {"nz-oz"}), mul("tfz", {"fz-oz"}),
+      add("tnx-tny", {"tnx", "tny"}), add("tfx-tfy", {"tfx", "tfy"}),
+      add("t0'-tnz", {"tnx-tny", "tnz"}), add("t1'-tfz", {"tfx-tfy", "tfz"}), add("t1''-limit", {"t1'-tfz"}),
+      mul("K*t1", {"t1''-limit"}), add("t0-K*t1", {"t0'-tnz", "K*t1"}, 0)}};
+  return g;
+}
+
 }  // namespace oprt

@@ -52,12 +52,12 @@ void IntersectionUnit<T>::trace_state(UnitState s, const sc_time& at) {
 }
 
 template <typename T>
-void IntersectionUnit<T>::read_memory(std::uint32_t sphere, std::uint32_t triangles) {
-  MemoryReadPacket packet{sphere, triangles};
+void IntersectionUnit<T>::read_memory(std::uint32_t sphere, std::uint64_t bytes) {
+  MemoryReadPacket packet{sphere, bytes};
   read_.set_command(tlm::TLM_READ_COMMAND);
   read_.set_address(0);
   read_.set_data_ptr(reinterpret_cast<unsigned char*>(&packet));
-  read_.set_data_length(triangles * Bytes<T>::triangle);
+  read_.set_data_length(static_cast<unsigned>(bytes));
   read_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
   sc_time latency = SC_ZERO_TIME;  // the latency enters through stream_stall(), per triangle
   mem->b_transport(read_, latency);
@@ -94,10 +94,11 @@ void IntersectionUnit<T>::run() {
       std::uint64_t bytes = 0;
       const UnitCycles vc = charge_visit<T>(v, arch_, stats_.per_sphere[kind], bytes);
       c += vc;
-      if (v.work.transforms) read_memory(v.sphere, static_cast<std::uint32_t>(v.work.tri_tests()));
-      if (vcd_) {
+      if (v.work.transforms) read_memory(v.sphere, bytes);
+      if (vcd_) {  // a BVH interleaves box and triangle tests; the trace shows their totals
         phase(UnitState::sphere, vc.sphere);
         phase(UnitState::transform, vc.transform);
+        phase(UnitState::box, vc.box);
         phase(UnitState::primitive, vc.primitive);
         phase(UnitState::stall, vc.stall);
       }

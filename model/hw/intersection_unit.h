@@ -23,7 +23,7 @@
 
 namespace oprt::hw {
 
-enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primitive = 3, stall = 4 };
+enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primitive = 3, stall = 4, box = 5 };
 
 struct UnitStats {
   UnitCycles cycles;
@@ -52,7 +52,7 @@ class IntersectionUnit : public sc_core::sc_module {
  private:
   void run();
   void cfg_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
-  void read_memory(std::uint32_t sphere, std::uint32_t triangles);
+  void read_memory(std::uint32_t sphere, std::uint64_t bytes);
   void trace_state(UnitState s, const sc_core::sc_time& at);
 
   const int id_;

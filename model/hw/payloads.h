@@ -34,6 +34,7 @@ struct Bytes {
   static constexpr unsigned shadow_answer = 12;                        // ray, unit, occluded
   static constexpr unsigned sphere_config = 4 + 16 * sizeof(T);        // id, centre, radius, 3x4 matrix
   static constexpr unsigned triangle = 12 * sizeof(T);                 // v0, e1, e2, n
+  static constexpr unsigned node = BvhNode<T>::kBytes;                 // box, offset, count, axis
 };
 
 // Rays of the frame in flight, by id. Written by the GPP; units read the ray a FIFO entry
@@ -82,10 +83,10 @@ struct MemoryLoadPacket {
   std::vector<std::uint32_t> spheres;
 };
 
-// A burst read of one sphere's triangle block.
+// The reads of one sphere visit: its triangles (and, with a BVH, its nodes).
 struct MemoryReadPacket {
   std::uint32_t sphere;
-  std::uint32_t triangles;
+  std::uint64_t bytes;
 };
 
 }  // namespace oprt::hw

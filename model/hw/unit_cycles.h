@@ -14,17 +14,20 @@ namespace oprt::hw {
 
 struct UnitCycles {
   std::uint64_t sphere = 0, transform = 0, primitive = 0;  // busy
+  std::uint64_t box = 0;    // busy, --accel bvh: box set-ups and box tests
   std::uint64_t stall = 0;  // waiting for object memory or for the bus
-  std::uint64_t busy() const { return sphere + transform + primitive; }
+  std::uint64_t busy() const { return sphere + transform + box + primitive; }
   UnitCycles& operator+=(const UnitCycles& o) {
     sphere += o.sphere;
     transform += o.transform;
     primitive += o.primitive;
+    box += o.box;
     stall += o.stall;
     return *this;
   }
   bool operator==(const UnitCycles& o) const {
-    return sphere == o.sphere && transform == o.transform && primitive == o.primitive && stall == o.stall;
+    return sphere == o.sphere && transform == o.transform && primitive == o.primitive && box == o.box &&
+           stall == o.stall;
   }
 };
 
@@ -32,6 +35,10 @@ inline std::uint64_t primitive_cycles(const WorkCounts& w, const CycleCosts& c) 
   std::uint64_t n = 0;
   for (int k = 0; k < kTriStages; ++k) n += w.tri_stage[k] * c.tri_stage[k];
   return n;
+}
+
+inline std::uint64_t box_cycles(const WorkCounts& w, const CycleCosts& c) {
+  return w.box_setups * c.box_setup + w.box_tests * c.box;
 }
 
 // The cycles of one sphere visit. Memory stalls need the visit's exit stages in memory
@@ -42,10 +49,17 @@ inline UnitCycles visit_cycles(const SphereVisit& v, const Arch& a) {
   c.sphere = v.work.sphere_tests * a.costs.sphere;
   c.transform = v.work.transforms * a.costs.transform;
   c.primitive = primitive_cycles(v.work, a.costs);
+  c.box = box_cycles(v.work, a.costs);
   if (a.memory.model == MemoryModel::latency && v.work.transforms && v.stages) {
-    const auto n = static_cast<std::uint32_t>(v.work.tri_tests());
-    c.stall = stream_stall(a.memory.latency_cycles, a.memory.bytes_per_cycle, Bytes<T>::triangle, a.costs.transform,
-                           v.stages, n, a.costs.tri_stage);
+    StreamCosts s;
+    s.latency = static_cast<std::uint32_t>(a.memory.latency_cycles);
+    s.bytes_per_cycle = static_cast<std::uint32_t>(a.memory.bytes_per_cycle);
+    s.triangle_bytes = Bytes<T>::triangle;
+    s.node_bytes = Bytes<T>::node;
+    s.lead = a.costs.transform + (v.work.box_setups ? a.costs.box_setup : 0);
+    s.triangle = a.costs.tri_stage;
+    s.box = a.costs.box;
+    c.stall = stream_stall(s, v.stages, static_cast<std::uint32_t>(v.work.tri_tests() + v.work.box_tests));
   }
   return c;
 }
@@ -56,7 +70,7 @@ template <typename T>
 inline UnitCycles charge_visit(const SphereVisit& v, const Arch& a, std::vector<WorkCounts>& per_sphere,
                                std::uint64_t& memory_bytes) {
   per_sphere[v.sphere] += v.work;
-  if (v.work.transforms) memory_bytes += v.work.tri_tests() * Bytes<T>::triangle;
+  memory_bytes += v.work.tri_tests() * Bytes<T>::triangle + v.work.box_tests * Bytes<T>::node;
   return visit_cycles<T>(v, a);
 }
 
@@ -66,6 +80,7 @@ inline UnitCycles work_cycles(const WorkCounts& w, const CycleCosts& c) {
   u.sphere = w.sphere_tests * c.sphere;
   u.transform = w.transforms * c.transform;
   u.primitive = primitive_cycles(w, c);
+  u.box = box_cycles(w, c);
   return u;
 }
 

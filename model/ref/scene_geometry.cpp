@@ -32,7 +32,90 @@ void write_triangle(MollerSoA<T>& soa, std::size_t i, const MollerTriangle<T>& t
   for (int k = 0; k < 4; ++k)
     for (int j = 0; j < 3; ++j) soa.c[3 * k + j][i] = (*v[k])[j];
 }
+
+// How far a sphere's node boxes reach beyond its triangles' exact bounds. The box test is
+// conservative for the exact ray and the exact box (geom/bvh.h, kBoxSlack), but a triangle
+// kernel decides in floating point: it can accept a ray that, exactly, passes just outside
+// the triangle, or place the hit a little before where the exact ray meets it (its t is
+// rounded), and the kernel stores its own rounding of the vertices (v0 + e1 is not v1).
+// BVH and brute force then agree only if the boxes also hold the points the kernel may
+// report. The kernels' errors are a few ulps of the distances involved: for a hit at
+// distance D from the ray origin the kernel's t is off by about gamma(6) D along the ray
+// (Moller: t = (tv.n) / det, each a 3-term dot product), and a box padded by `pad` is
+// entered at least pad / |d| earlier than the triangle surface it holds (the exact ray
+// crosses the padding first). The first term covers hits up to ~1000 sphere radii away
+// (8192 u r against ~8 u D), the second the kernels' vertex roundings (a few u of the
+// coordinates' magnitude). Cost: a float box grows by 5e-4 of the sphere's radius.
+template <typename T>
+double bvh_pad(double radius, double magnitude) {
+  return 8192 * unit_roundoff<T>() * radius + 8 * unit_roundoff<T>() * magnitude;
+}
+
+// Bounds of the triangles [first, end) of g (their mesh vertices, exact in double) and the
+// largest vertex coordinate magnitude.
+template <typename T>
+std::vector<Box<double>> triangle_bounds(const SceneGeometry<T>& g, const Mesh& mesh, const std::vector<Vec3d>& verts,
+                                         std::uint32_t first, std::uint32_t end, double& magnitude) {
+  std::vector<Box<double>> b(end - first);
+  for (std::uint32_t k = first; k < end; ++k)
+    for (std::uint32_t v : mesh.triangles[g.prim[k]]) {
+      b[k - first].extend(verts[v]);
+      magnitude = std::fmax(magnitude, max_abs_component(verts[v]));
+    }
+  return b;
+}
+
+// The sphere's nodes in T, from the double tree (offsets relative to the sphere).
+template <typename T>
+void store_nodes(SceneGeometry<T>& g, std::uint32_t s, const std::vector<BvhNode<double>>& tree, double pad) {
+  for (std::size_t i = 0; i < tree.size(); ++i) {
+    BvhNode<T>& n = g.nodes[g.first_node[s] + i];
+    n.box = round_out<T>(tree[i].box, pad);
+    n.count = tree[i].count;
+    n.axis = tree[i].axis;
+    n.offset = tree[i].offset + (tree[i].leaf() ? g.first[s] : g.first_node[s]);
+  }
+}
+
+// Build sphere s's BVH and put its triangles in leaf order.
+template <typename T>
+void build_sphere_bvh(SceneGeometry<T>& g, std::uint32_t s, const Mesh& mesh, double radius) {
+  double magnitude = 0;
+  const std::uint32_t first = g.first[s], end = g.first[s + 1];
+  const BvhBuild tree = build_bvh(triangle_bounds(g, mesh, mesh.vertices, first, end, magnitude));
+  const std::vector<std::uint32_t> prim(g.prim.begin() + first, g.prim.begin() + end);
+  std::vector<MollerTriangle<T>> tri;
+  for (std::uint32_t k = first; k < end; ++k) tri.push_back(g.tris[k]);
+  for (std::uint32_t k = 0; k < tree.order.size(); ++k) {
+    g.prim[first + k] = prim[tree.order[k]];
+    write_triangle(g.tris, first + k, tri[tree.order[k]]);
+  }
+  g.first_node[s + 1] = g.first_node[s] + static_cast<std::uint32_t>(tree.nodes.size());
+  g.nodes.resize(g.first_node[s + 1]);
+  store_nodes(g, s, tree.nodes, bvh_pad<T>(radius, magnitude));
+}
+
+// Refit sphere s's BVH to its triangles' current vertices.
+template <typename T>
+void refit_sphere_bvh(SceneGeometry<T>& g, std::uint32_t s, const Mesh& mesh, const std::vector<Vec3d>& verts) {
+  std::vector<BvhNode<double>> tree(g.nodes_in(s));
+  for (std::size_t i = 0; i < tree.size(); ++i) {
+    const BvhNode<T>& n = g.nodes[g.first_node[s] + i];
+    tree[i].count = n.count;
+    tree[i].axis = n.axis;
+    tree[i].offset = n.offset - (n.leaf() ? g.first[s] : g.first_node[s]);
+  }
+  double magnitude = 0;
+  refit_bvh(tree, triangle_bounds(g, mesh, verts, g.first[s], g.first[s + 1], magnitude));
+  store_nodes(g, s, tree, bvh_pad<T>(g.local_sphere[s].r, magnitude));
+}
 }  // namespace
+
+Accel accel_named(const std::string& name) {
+  if (name == "brute") return Accel::brute;
+  if (name == "bvh") return Accel::bvh;
+  throw std::invalid_argument("unknown acceleration \"" + name + "\" (expected brute or bvh)");
+}
 
 bool has_deforming(const Scene& scene) {
   for (const Object& o : scene.objects)
@@ -59,13 +142,14 @@ std::uint64_t update_deforming(SceneGeometry<T>& g, const Scene& scene, int fram
       }
     }
     g.local_sphere[s] = enclosing<T>(minimal_sphere(points), stored);
-    bytes += static_cast<std::uint64_t>(g.triangles_in(s)) * SceneGeometry<T>::kTriangleBytes;
+    if (g.has_bvh()) refit_sphere_bvh(g, s, obj.mesh, verts);
+    bytes += g.memory_bytes(s);
   }
   return bytes;
 }
 
 template <typename T>
-SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs) {
+SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs, Accel accel) {
   SceneGeometry<T> g;
   std::size_t total = 0;
   for (const SphereDef& d : defs) total += d.prims.size();
@@ -103,12 +187,17 @@ SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs)
     g.local_sphere.push_back(s);
   }
   g.first.push_back(static_cast<std::uint32_t>(g.tris.size()));
+  if (accel == Accel::bvh) {
+    g.first_node.assign(g.sphere_count() + 1, 0);
+    for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
+      build_sphere_bvh(g, s, scene.objects[g.object[s]].mesh, static_cast<double>(g.local_sphere[s].r));
+  }
   g.defs = std::move(defs);
   return g;
 }
 
-template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>);
-template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>);
+template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>, Accel);
+template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>, Accel);
 template std::uint64_t update_deforming(SceneGeometry<float>&, const Scene&, int);
 template std::uint64_t update_deforming(SceneGeometry<double>&, const Scene&, int);
 

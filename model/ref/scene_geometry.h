@@ -5,16 +5,22 @@
 #pragma once
 
 #include "balance/spheres.h"
+#include "geom/bvh.h"
 #include "geom/sphere.h"
 #include "geom/triangle_soa.h"
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace oprt {
 
 enum class Precision { single, dual };  // float | double
+// What an IU does inside a sphere it enters: test every triangle (the paper's evaluation)
+// or traverse the sphere's BVH (geom/bvh.h, ref/bvh_traverse.h).
+enum class Accel { brute, bvh };
+Accel accel_named(const std::string& name);  // "brute" | "bvh"; throws std::invalid_argument
 
 template <typename T>
 struct SceneGeometry {
@@ -22,28 +28,41 @@ struct SceneGeometry {
   std::vector<Sphere<T>> local_sphere;   // per sphere, enclosing its T-rounded triangles
   std::vector<std::uint32_t> object;     // per sphere: its object
   std::vector<std::uint32_t> first;      // per sphere: first triangle in `tris`; size + 1
-  MollerSoA<T> tris;                     // grouped by sphere, each sphere's in prim order
+  MollerSoA<T> tris;                     // grouped by sphere: each sphere's in prim order
+                                         // (brute) or in its BVH's leaf order (bvh)
   std::vector<std::uint32_t> prim;       // per stored triangle: index in the object's mesh
   std::vector<char> deforming;           // per sphere: its object's vertices move (BART tpa)
+  // With Accel::bvh: per sphere its first node (size + 1; empty for brute), and the nodes,
+  // each sphere's depth first from its root; leaf offsets index `tris` directly.
+  std::vector<std::uint32_t> first_node;
+  std::vector<BvhNode<T>> nodes;
 
   std::uint32_t sphere_count() const { return static_cast<std::uint32_t>(object.size()); }
   std::uint32_t triangles_in(std::uint32_t s) const { return first[s + 1] - first[s]; }
-  // Bytes one triangle occupies in object memory (the memory model charges transfers).
+  bool has_bvh() const { return !first_node.empty(); }
+  std::uint32_t nodes_in(std::uint32_t s) const { return has_bvh() ? first_node[s + 1] - first_node[s] : 0; }
+  // Bytes one triangle and one node occupy in object memory (the memory model charges
+  // transfers), and what a sphere's geometry occupies.
   static constexpr std::uint32_t kTriangleBytes = 12 * sizeof(T);
+  static constexpr std::uint32_t kNodeBytes = BvhNode<T>::kBytes;
+  std::uint64_t memory_bytes(std::uint32_t s) const {
+    return std::uint64_t{triangles_in(s)} * kTriangleBytes + std::uint64_t{nodes_in(s)} * kNodeBytes;
+  }
 };
 
 template <typename T>
-SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs);
+SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs, Accel accel = Accel::brute);
 
 // For scenes with non-rigid objects: rewrite the deforming spheres' triangles and local
 // spheres for frame f (the clusters, fixed at frame 0, keep their triangles). Between
-// frames only. Returns the bytes rewritten (what object memory receives).
+// frames only. Their BVHs keep their topology and are refitted. Returns the bytes
+// rewritten (what object memory receives).
 template <typename T>
 std::uint64_t update_deforming(SceneGeometry<T>& g, const Scene& scene, int frame);
 bool has_deforming(const Scene& scene);
 
-extern template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>);
-extern template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>);
+extern template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>, Accel);
+extern template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>, Accel);
 extern template std::uint64_t update_deforming(SceneGeometry<float>&, const Scene&, int);
 extern template std::uint64_t update_deforming(SceneGeometry<double>&, const Scene&, int);
 

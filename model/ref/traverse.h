@@ -11,6 +11,7 @@
 // its work, so every caller charges the same counts.
 #pragma once
 
+#include "ref/bvh_traverse.h"
 #include "ref/frame_setup.h"
 #include "ref/work.h"
 
@@ -59,11 +60,14 @@ struct IuRegisters {
 // What one sphere visit cost: one sphere test, and if it hit, one transform and the tests
 // of the sphere's triangles (all of them for a nearest-hit ray; up to the first occluder for
 // a shadow ray), in memory order: work.tri_tests() triangles streamed from object memory.
+// With a BVH: the box set-up, then nodes and leaves' triangles in the order of the walk.
 struct SphereVisit {
   std::uint32_t entry;   // position in the unit's registers
   std::uint32_t sphere;  // global sphere id
   WorkCounts work;
-  const std::uint8_t* stages = nullptr;  // per tested triangle its exit stage, if logged
+  // If logged, in memory order: per tested triangle its exit stage, and (BVH) kLogNode per
+  // node; work.tri_tests() + work.box_tests entries.
+  const std::uint8_t* stages = nullptr;
 };
 
 // Scratch for logging exit stages in memory order (the memory model's input); pass nullptr
@@ -85,6 +89,14 @@ HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& re
       v.work.transforms = 1;
       const std::uint32_t s = v.sphere;
       const Ray<T> local = regs.to_local[i].ray(ray);
+      if (mem.has_bvh()) {  // the sphere's BVH instead of every triangle (ref/bvh_traverse.h)
+        const BlockHit<T> h = nearest_in_bvh(mem, s, local, v.work, log);
+        if (log) v.stages = log->data();
+        const HitRecord<T> c{h.t, mem.object[s], h.valid() ? mem.prim[h.index] : kNone, s, h.u, h.v};
+        if (h.valid() && closer(c, best)) best = c;
+        visit(v);
+        continue;
+      }
       std::uint8_t* l = nullptr;
       if (log) {
         log->resize(mem.triangles_in(s));
@@ -114,6 +126,13 @@ bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ra
       v.work.transforms = 1;
       const std::uint32_t s = v.sphere;
       const Ray<T> local = regs.to_local[i].ray(ray);
+      if (mem.has_bvh()) {  // ref/bvh_traverse.h
+        occluded = any_in_bvh(mem, s, local, v.work, log);
+        if (log) v.stages = log->data();
+        visit(v);
+        if (occluded) return true;
+        continue;
+      }
       std::uint8_t* l = nullptr;
       if (log) {
         log->resize(mem.triangles_in(s));

@@ -15,6 +15,8 @@ struct WorkCounts {
   std::uint64_t transforms = 0;  // = sphere hits: the ray is carried into the local frame
   std::uint64_t tri_stage[kTriStages] = {};  // triangle tests by exit stage
   std::uint64_t tri_hits = 0;                // accepted at the last stage (subset of tri_stage[t])
+  std::uint64_t box_setups = 0;  // --accel bvh: per entered sphere, the ray's reciprocal direction
+  std::uint64_t box_tests = 0;   // --accel bvh: nodes fetched and box-tested
 
   std::uint64_t tri_tests() const {
     std::uint64_t n = 0;
@@ -26,12 +28,15 @@ struct WorkCounts {
     transforms += o.transforms;
     for (int i = 0; i < kTriStages; ++i) tri_stage[i] += o.tri_stage[i];
     tri_hits += o.tri_hits;
+    box_setups += o.box_setups;
+    box_tests += o.box_tests;
     return *this;
   }
   bool operator==(const WorkCounts& o) const {
     for (int i = 0; i < kTriStages; ++i)
       if (tri_stage[i] != o.tri_stage[i]) return false;
-    return sphere_tests == o.sphere_tests && transforms == o.transforms && tri_hits == o.tri_hits;
+    return sphere_tests == o.sphere_tests && transforms == o.transforms && tri_hits == o.tri_hits &&
+           box_setups == o.box_setups && box_tests == o.box_tests;
   }
 };
 

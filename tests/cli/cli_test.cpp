@@ -143,3 +143,43 @@ TEST_CASE("cli: stats name the fields scripts rely on", "[cli]") {
   CHECK(fs::exists(d / "frame_0000.exr"));
   CHECK(fs::exists(d / "frame_0000.png"));
 }
+
+TEST_CASE("cli: with --accel bvh the levels agree and the image is the brute-force one", "[cli][bvh]") {
+  const fs::path d = temp_dir("bvh");
+  const std::string common = "render " + scene("paper_room.json") + " --frames 4 --resolution 24x24 --ius 6 --no-progress";
+  REQUIRE(run_oprt(common + " --out " + (d / "brute").string()).status == 0);
+  REQUIRE(run_oprt(common + " --accel bvh --level at --out " + (d / "at").string()).status == 0);
+  REQUIRE(run_oprt(common + " --accel bvh --level analytic --out " + (d / "an").string()).status == 0);
+  REQUIRE(run_oprt("reference " + scene("paper_room.json") + " --frames 4 --resolution 24x24 --accel bvh --out " +
+                   (d / "ref").string()).status == 0);
+  const auto brute = oprt::read_exr((d / "brute" / "frame_0004.exr").string());
+  for (const char* run : {"at", "an", "ref"}) {
+    INFO(run);
+    CHECK(oprt::read_exr((d / run / "frame_0004.exr").string()) == brute);
+  }
+  // Ideal architecture: analytic equals at exactly, box cycles included; busy = sum of parts.
+  const auto a = stats(d / "at")["frames"][0], b = stats(d / "an")["frames"][0];
+  CHECK(a["makespan_cycles"] == b["makespan_cycles"]);
+  for (int u = 0; u < 6; ++u) {
+    CHECK(a["ius"][u]["cycles"] == b["ius"][u]["cycles"]);
+    const auto& c = a["ius"][u]["cycles"];
+    CHECK(c["box"].get<std::uint64_t>() > 0);
+    CHECK(a["ius"][u]["busy_cycles"] == c["sphere"].get<std::uint64_t>() + c["transform"].get<std::uint64_t>() +
+                                            c["box"].get<std::uint64_t>() + c["primitive"].get<std::uint64_t>());
+  }
+  CHECK(stats(d / "at")["arch"]["accel"] == "bvh");
+  CHECK(stats(d / "brute")["frames"][0]["ius"][0]["cycles"]["box"] == 0);
+  // Contended: lt's busy cycles, box included, are at's.
+  std::ofstream(d / "arch.json") << R"({"format": "oprt-arch/1", "ius": 6, "accel": "bvh", "ray_fifo_depth": 4,
+      "bus": {"model": "shared", "bytes_per_cycle": 8}, "memory": {"model": "latency", "latency_cycles": 10}})";
+  const std::string contended = "render " + scene("paper_room.json") + " --arch " + (d / "arch.json").string() +
+                                " --frames 4 --resolution 24x24 --no-progress";
+  REQUIRE(run_oprt(contended + " --level at --out " + (d / "cat").string()).status == 0);
+  REQUIRE(run_oprt(contended + " --level lt --quantum 10us --out " + (d / "clt").string()).status == 0);
+  CHECK(oprt::read_exr((d / "cat" / "frame_0004.exr").string()) == brute);
+  CHECK(oprt::read_exr((d / "clt" / "frame_0004.exr").string()) == brute);
+  const auto ca = stats(d / "cat")["frames"][0], cl = stats(d / "clt")["frames"][0];
+  for (int u = 0; u < 6; ++u)
+    for (const char* k : {"sphere", "transform", "box", "primitive"})
+      CHECK(ca["ius"][u]["cycles"][k] == cl["ius"][u]["cycles"][k]);
+}

@@ -53,12 +53,20 @@ TEST_CASE("arch: every field is read", "[arch]") {
   CHECK(a.balance == "sa_n");
   CHECK(a.subdivide == 8);
   CHECK(a.precision == "double");
+  const Arch b = parse(R"({"format": "oprt-arch/1", "accel": "bvh", "costs": {"box": 9, "box_setup": 20}})");
+  CHECK(b.accel == "bvh");
+  CHECK(b.costs.box == 9);
+  CHECK(b.costs.box_setup == 20);
+  CHECK(to_json(b)["costs"]["box"] == 9);
 }
 
 TEST_CASE("arch: bad files fail with the place and the problem", "[arch]") {
   expect_error(R"({"format": "oprt-arch/1", "ius": 0})", "/ius", "out of range");
   expect_error(R"({"format": "oprt-arch/1", "costs": {"sphere": -1}})", "/costs/sphere", "out of range");
   expect_error(R"({"format": "oprt-arch/1", "costs": {"triangle": [4, 22]}})", "/costs/triangle", "expected 4");
+  expect_error(R"({"format": "oprt-arch/1", "costs": {"box": -3}})", "/costs/box", "out of range");
+  expect_error(R"({"format": "oprt-arch/1", "costs": {"node": 3}})", "/costs/node", "unknown key");
+  expect_error(R"({"format": "oprt-arch/1", "accel": "kd"})", "/accel", "unknown value");
   expect_error(R"({"format": "oprt-arch/1", "bus": {"model": "crossbar"}})", "/bus/model", "unknown value");
   expect_error(R"({"format": "oprt-arch/1", "bus": {"model": "shared", "bytes_per_cycle": 0}})",
                "/bus/bytes_per_cycle", "out of range");

@@ -49,10 +49,25 @@ TEST_CASE("schedules: transform 19 and sphere tests 10 (textbook) and 14 (stable
   CHECK(tb.length() == 10);
 }
 
+TEST_CASE("schedules: BVH box set-up 12 and box test 13", "[schedule][bvh]") {
+  const Schedule setup = list_schedule(box_setup_graph());
+  check_valid(setup);
+  CHECK(setup.length() == 12);  // 12 multiplies (two Newton-Raphson steps per axis): multiplier-bound
+  const Schedule box = list_schedule(box_graph());
+  check_valid(box);
+  CHECK(box.length() == 13);  // 12 adds (6 slab subtractions, 6 comparisons) + the slack multiply
+  int muls = 0, adds = 0;
+  for (const Op& op : box_graph().ops) (op.fu == Fu::multiplier ? muls : adds) += 1;
+  CHECK(adds == 12);
+  CHECK(muls == 7);
+}
+
 TEST_CASE("schedules: default costs are Table 1 and the schedules", "[schedule]") {
   const CycleCosts def, sched = scheduled_costs();
   CHECK(def.sphere == 9);
   CHECK(def.transform == sched.transform);
+  CHECK(def.box_setup == sched.box_setup);
+  CHECK(def.box == sched.box);
   for (int k = 0; k < kTriStages; ++k) CHECK(def.tri_stage[k] == sched.tri_stage[k]);
   CHECK(sched.sphere == 14);
   CHECK(list_schedule(moller_graph()).table().find("det-u") != std::string::npos);

@@ -41,12 +41,15 @@ std::vector<hw::UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<
   return out;
 }
 
-void check_matches_reference(const std::string& name, int size) {
+void check_matches_reference(const std::string& name, int size, const std::string& accel = "brute") {
   const Scene scene = load_scene(test::scene_path(name));
   Arch arch;  // the paper's ideal assumptions, 32 units
+  arch.accel = accel;
   test::Run run = test::simulate_scene<float>(scene, arch, {0, 0}, size, size);
-  const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres);
+  const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres, accel_named(accel));
   const FrameResult ref = render_reference(scene, g, 0, size, size);
+  // And the reference with a BVH is the brute-force one (ref/bvh_ref_test.cpp).
+  if (accel == "bvh") CHECK(ref.image == render_reference(scene, build_geometry<float>(scene, run.spheres), 0, size, size).image);
   const FrameImage& img = run.job.images.at(0);
   CHECK(img.r == ref.image.r);
   CHECK(img.g == ref.image.g);
@@ -65,18 +68,28 @@ void check_matches_reference(const std::string& name, int size) {
 
 TEST_CASE("render equals reference bit for bit on paper_room", "[engine]") { check_matches_reference("paper_room.json", 40); }
 
+TEST_CASE("render equals reference bit for bit on paper_room with --accel bvh", "[engine][bvh]") {
+  check_matches_reference("paper_room.json", 40, "bvh");
+}
+
+TEST_CASE("render equals reference bit for bit on paper_polygons with --accel bvh", "[engine][bvh]") {
+  check_matches_reference("paper_polygons.json", 32, "bvh");
+}
+
 TEST_CASE("render equals reference bit for bit on paper_polygons", "[engine]") {
   check_matches_reference("paper_polygons.json", 32);
 }
 
-TEST_CASE("per-unit busy cycles equal the functional work times the costs", "[engine]") {
+namespace {
+void check_busy_is_work(const std::string& accel) {
   const Scene scene = load_scene(test::scene_path("paper_room.json"));
   Arch arch;
   arch.ius = 7;  // several spheres per unit: early exits across spheres matter
   arch.balance = "round_robin";
+  arch.accel = accel;
   const int n = 32;
   test::Run run = test::simulate_scene<float>(scene, arch, {3, 3}, n, n);
-  const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres);
+  const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres, accel_named(accel));
   const auto expect = replay_busy(scene, g, run.job.assignment, arch.costs, 3, n, n);
   const FrameStats& fs = run.job.results.at(0);
   REQUIRE(fs.units.size() == 7);
@@ -85,6 +98,8 @@ TEST_CASE("per-unit busy cycles equal the functional work times the costs", "[en
     CHECK(fs.units[u].cycles.sphere == expect[u].sphere);
     CHECK(fs.units[u].cycles.transform == expect[u].transform);
     CHECK(fs.units[u].cycles.primitive == expect[u].primitive);
+    CHECK(fs.units[u].cycles.box == expect[u].box);
+    CHECK((fs.units[u].cycles.box > 0) == (accel == "bvh"));
     CHECK(fs.units[u].cycles.stall == 0);  // ideal bus and memory
     CHECK(fs.units[u].cycles.busy() + fs.units[u].idle == fs.makespan);
   }
@@ -93,6 +108,13 @@ TEST_CASE("per-unit busy cycles equal the functional work times the costs", "[en
   std::uint64_t most = 0;
   for (const auto& u : fs.units) most = std::max(most, u.cycles.busy());
   CHECK(fs.makespan >= most);
+}
+}  // namespace
+
+TEST_CASE("per-unit busy cycles equal the functional work times the costs", "[engine]") { check_busy_is_work("brute"); }
+
+TEST_CASE("per-unit busy cycles (box tests included) equal the work times the costs with --accel bvh", "[engine][bvh]") {
+  check_busy_is_work("bvh");
 }
 
 TEST_CASE("every ray retires exactly once and every unit answers every ray", "[engine]") {
@@ -116,9 +138,11 @@ TEST_CASE("every ray retires exactly once and every unit answers every ray", "[e
   }
 }
 
-TEST_CASE("fifo depth 1 with a shared bus and memory latency completes with the same image", "[engine][contention]") {
+namespace {
+void check_contended(const std::string& accel) {
   const Scene scene = load_scene(test::scene_path("paper_room.json"));
   Arch tight;
+  tight.accel = accel;
   tight.ius = 8;
   tight.fifo_depth = 1;
   tight.bus.model = BusModel::shared;
@@ -128,8 +152,8 @@ TEST_CASE("fifo depth 1 with a shared bus and memory latency completes with the 
   tight.memory.bytes_per_cycle = 4;  // slower than the triangle tests: streaming stalls
   const int n = 24;
   test::Run b = test::simulate_scene<float>(scene, tight, {0, 0}, n, n);
-  const SceneGeometry<float> g = build_geometry<float>(scene, b.spheres);
-  CHECK(b.job.images.at(0) == render_reference(scene, g, 0, n, n).image);
+  const SceneGeometry<float> g = build_geometry<float>(scene, b.spheres, accel_named(accel));
+  CHECK(b.job.images.at(0) == render_reference(scene, build_geometry<float>(scene, b.spheres), 0, n, n).image);
   const auto expect = replay_busy(scene, g, b.job.assignment, tight.costs, 0, n, n);
   const FrameStats& fb = b.job.results.at(0);
   std::uint64_t stall = 0, most = 0;
@@ -137,6 +161,7 @@ TEST_CASE("fifo depth 1 with a shared bus and memory latency completes with the 
     CHECK(fb.units[u].cycles.sphere == expect[u].sphere);  // contention changes time, not work
     CHECK(fb.units[u].cycles.transform == expect[u].transform);
     CHECK(fb.units[u].cycles.primitive == expect[u].primitive);
+    CHECK(fb.units[u].cycles.box == expect[u].box);
     stall += fb.units[u].cycles.stall;
     most = std::max(most, fb.units[u].cycles.busy() + fb.units[u].cycles.stall);
     CHECK(fb.units[u].cycles.busy() + fb.units[u].cycles.stall + fb.units[u].idle == fb.makespan);
@@ -146,4 +171,19 @@ TEST_CASE("fifo depth 1 with a shared bus and memory latency completes with the 
   CHECK(fb.bus_busy > 0);
   // Bus occupancy by hand: each transfer costs 1 arbitration cycle + ceil(bytes / 8).
   CHECK(fb.bus_busy >= fb.bus_transfers * 2);
+  // Object memory delivered every triangle and node the units tested.
+  for (const auto& u : fb.units) {
+    WorkCounts w = u.work[0];
+    w += u.work[1];
+    CHECK(u.memory_bytes == w.tri_tests() * hw::Bytes<float>::triangle + w.box_tests * hw::Bytes<float>::node);
+  }
+}
+}  // namespace
+
+TEST_CASE("fifo depth 1 with a shared bus and memory latency completes with the same image", "[engine][contention]") {
+  check_contended("brute");
+}
+
+TEST_CASE("contention with --accel bvh keeps the image and the busy cycles while node fetches stall", "[engine][contention][bvh]") {
+  check_contended("bvh");
 }
