@@ -63,8 +63,10 @@ nlohmann::json to_json(const FrameStats& f) {
           {"rays_per_wall_s", f.wall_s > 0 ? rays / f.wall_s : 0},
           {"bus", {{"busy_cycles", f.bus_busy}, {"bytes", f.bus_bytes}, {"transfers", f.bus_transfers}}},
           {"memory_load_bytes", f.memory_load_bytes},
+          {"memory_load_cycles", f.memory_load_cycles},
           {"image_hash", hash},
           {"sphere_cycles", f.sphere_cycles},
+          {"sphere_entries", f.sphere_entries},
           {"ius", units}};
 }
 

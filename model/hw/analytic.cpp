@@ -49,7 +49,9 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
         bytes += static_cast<std::uint64_t>(geom_.triangles_in(s)) * Bytes<T>::triangle;
     if (loaded_[u] == assignment_[u] && bytes == 0) continue;
     out.memory_load_bytes += bytes;
+    const Cycles before = g;
     g = transfer(g, bytes);
+    out.memory_load_cycles += g - before;
     loaded_[u] = assignment_[u];
   }
 
