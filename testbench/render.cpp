@@ -56,10 +56,16 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
   for (auto c : job.arch.costs.tri_stage) costs.triangle += c / double(kTriStages);
   job.assignment = static_assignment(dynamic ? "sa_n" : job.arch.balance, scene, spheres, units, costs);
   SceneGeometry<T> geometry = build_geometry<T>(scene, spheres);
+  // Every sphere's SA x N and sa_n cost estimate, whatever the policy: scripts/figures
+  // compares both with the measured cycles.
+  const std::vector<double> weight = sa_n_weights(scene, spheres, costs);
   nlohmann::json sphere_info = nlohmann::json::array();
-  for (const SphereDef& d : spheres)
+  for (std::size_t i = 0; i < spheres.size(); ++i) {
+    const SphereDef& d = spheres[i];
     sphere_info.push_back({{"object", d.object}, {"primitives", d.prims.size()}, {"radius", d.local.r},
-                           {"center", {d.local.c.x, d.local.c.y, d.local.c.z}}, {"sa_n", d.sa_n()}});
+                           {"center", {d.local.c.x, d.local.c.y, d.local.c.z}}, {"sa_n", d.sa_n()},
+                           {"sa_n_weight", weight[i]}});
+  }
   job.header = {{"scene", o.scene},
                 {"sphere_list", sphere_info},
                 {"triangles", scene.triangle_count()},
