@@ -18,12 +18,16 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   fs.bus_bytes = run.bus_bytes;
   fs.bus_transfers = run.bus_transfers;
   fs.memory_load_bytes = run.memory_load_bytes;
+  fs.memory_load_cycles = run.memory_load_cycles;
   fs.image_hash = image.hash();
   fs.sphere_cycles.assign(geometry.sphere_count(), 0);
+  fs.sphere_entries.assign(geometry.sphere_count(), {});
   for (const hw::UnitRun& r : run.units)
     for (int k = 0; k < kRayKinds; ++k)
-      for (std::uint32_t s = 0; s < geometry.sphere_count(); ++s)
+      for (std::uint32_t s = 0; s < geometry.sphere_count(); ++s) {
         fs.sphere_cycles[s] += hw::work_cycles(r.per_sphere[k][s], job.arch.costs).busy();
+        fs.sphere_entries[s][k] += r.per_sphere[k][s].transforms;
+      }
   for (std::size_t u = 0; u < run.units.size(); ++u) {
     const hw::UnitRun& r = run.units[u];
     UnitFrameStats us;

@@ -71,6 +71,8 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
   costs.box = job.arch.costs.box;
   if (geometry.has_bvh()) costs.bvh = node_areas(geometry);  // sa_n weighs the trees' SAH cost
   job.assignment = static_assignment(dynamic ? "sa_n" : job.arch.balance, scene, spheres, units, costs);
+  // Every sphere's SA x N and sa_n cost estimate, whatever the policy: scripts/figures
+  // compares both with the measured cycles.
   const std::vector<double> weights = sa_n_weights(scene, spheres, costs);
   nlohmann::json sphere_info = nlohmann::json::array();
   for (std::size_t s = 0; s < spheres.size(); ++s) {

@@ -66,8 +66,10 @@ nlohmann::json to_json(const FrameStats& f) {
           {"rays_per_wall_s", f.wall_s > 0 ? rays / f.wall_s : 0},
           {"bus", {{"busy_cycles", f.bus_busy}, {"bytes", f.bus_bytes}, {"transfers", f.bus_transfers}}},
           {"memory_load_bytes", f.memory_load_bytes},
+          {"memory_load_cycles", f.memory_load_cycles},
           {"image_hash", hash},
           {"sphere_cycles", f.sphere_cycles},
+          {"sphere_entries", f.sphere_entries},
           {"ius", units}};
 }
 
@@ -76,19 +78,27 @@ StatsWriter::StatsWriter(std::string dir, nlohmann::json header) : dir_(std::mov
 void StatsWriter::add(const FrameStats& f) {
   frames_.push_back(f);
   nlohmann::json frames = nlohmann::json::array();
-  double wall = 0, eff = 0;
-  std::uint64_t makespan = 0, rays = 0;
+  double wall = 0, eff = 0, idle = 0;
+  std::uint64_t makespan = 0, rays = 0, busy = 0, load_bytes = 0, load_cycles = 0;
   for (const FrameStats& x : frames_) {
     frames.push_back(to_json(x));
     wall += x.wall_s;
     eff += x.efficiency();
+    idle += x.idle_fraction();
     makespan += x.makespan;
+    busy += x.busy();
     rays += x.rays[0] + x.rays[1];
+    load_bytes += x.memory_load_bytes;
+    load_cycles += x.memory_load_cycles;
   }
   nlohmann::json doc = doc_;
   doc["summary"] = {{"frames", frames_.size()},
                     {"makespan_cycles_total", makespan},
                     {"parallel_efficiency_mean", eff / frames_.size()},
+                    {"idle_fraction_mean", idle / frames_.size()},
+                    {"busy_cycles_total", busy},
+                    {"memory_load_bytes_total", load_bytes},
+                    {"memory_load_cycles_total", load_cycles},
                     {"wall_s", wall},
                     {"rays", rays},
                     {"rays_per_wall_s", wall > 0 ? rays / wall : 0}};

@@ -7,6 +7,7 @@
 #include "hw/unit_cycles.h"
 #include "ref/work.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -33,9 +34,11 @@ struct FrameStats {
   std::uint64_t rays[kRayKinds] = {};
   std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0;
   std::uint64_t memory_load_bytes = 0;  // geometry moved into object memories this frame
+  std::uint64_t memory_load_cycles = 0;  // bus cycles of that move, inside the makespan (0 on an ideal bus)
   std::uint64_t image_hash = 0;
   std::vector<UnitFrameStats> units;
   std::vector<std::uint64_t> sphere_cycles;  // per sphere: busy cycles spent on it (whichever unit)
+  std::vector<std::array<std::uint64_t, kRayKinds>> sphere_entries;  // per sphere: rays entering it, by kind
 
   std::uint64_t busy() const;
   // Sum of busy cycles / (units x makespan).

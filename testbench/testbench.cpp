@@ -109,6 +109,7 @@ class Testbench : public sc_module {
     run.bus_bytes = engine_->bus().bytes();
     run.bus_transfers = engine_->bus().transfers();
     run.memory_load_bytes = g.memory_load_bytes;
+    run.memory_load_cycles = g.memory_load_cycles;
     for (std::size_t u = 0; u < engine_->units(); ++u) {
       hw::UnitStats& s = engine_->unit(u).stats();
       hw::UnitRun r;

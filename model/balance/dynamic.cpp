@@ -9,7 +9,11 @@ namespace oprt {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-}
+
+// Solid angle of a sphere seen from outside it: a cap, 2 pi (1 - cos a), sin a = r / d.
+// (pi r^2 / d^2 is its small-sphere limit and falls short for near spheres.)
+double cap_sr(double r2, double d2) { return 2 * kPi * (1 - std::sqrt(1 - r2 / d2)); }
+}  // namespace
 
 std::vector<double> view_weights(const std::vector<Sphere<double>>& spheres, const std::vector<std::size_t>& prims,
                                  const Camera& cam, int width, int height, const std::vector<PointLight>& lights,
@@ -32,7 +36,7 @@ std::vector<double> view_weights(const std::vector<Sphere<double>>& spheres, con
       const double angular_radius = std::asin(std::min(1.0, r / d));
       const double off_axis = std::acos(std::clamp(dot3(to, forward) / d, -1.0, 1.0));
       if (off_axis - angular_radius > half_diag) continue;  // outside the view cone
-      primary[s] = std::min(pixels, pixels * (kPi * r * r / (d * d)) / view_sr);
+      primary[s] = std::min(pixels, pixels * cap_sr(r * r, d * d) / view_sr);
     }
     covered += primary[s];
   }
@@ -46,7 +50,7 @@ std::vector<double> view_weights(const std::vector<Sphere<double>>& spheres, con
     for (const PointLight& l : lights) {
       const Vec3d to = spheres[s].c - l.position;
       const double d2 = dot3(to, to), r = spheres[s].r;
-      shadow += d2 <= r * r ? covered : covered * std::min(1.0, kPi * r * r / d2 / (4 * kPi));
+      shadow += d2 <= r * r ? covered : covered * cap_sr(r * r, d2) / (4 * kPi);
     }
     const double entering = primary[s] + shadow;
     w[s] = rays * m.sphere_cycles + entering * (m.transform_cycles + static_cast<double>(prims[s]) * m.triangle_cycles);

@@ -16,9 +16,10 @@
 namespace oprt {
 
 // Estimated cycles of each sphere in a frame, from geometry alone:
-//   primary rays entering it  ~ pixels x (its solid angle seen from the eye, pi r^2 / d^2,
-//                               over the view's solid angle); every pixel if the eye is
-//                               inside it; none if it lies outside the view cone;
+//   primary rays entering it  ~ pixels x (its solid angle seen from the eye, the cap
+//                               2 pi (1 - sqrt(1 - r^2/d^2)), about pi r^2 / d^2, over the
+//                               view's solid angle); every pixel if the eye is inside it;
+//                               none if it lies outside the view cone;
 //   shadow rays entering it   ~ per light: the lit pixels x its solid angle seen from the
 //                               light over 4 pi (lights inside the scene shine all round);
 //   cost = rays x sphere_cycles + entering rays x (transform_cycles + primitives x

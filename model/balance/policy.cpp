@@ -1,39 +1,57 @@
 #include "balance/policy.h"
 
+#include "balance/hull_area.h"
 #include "geom/bounding_sphere.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace oprt {
 
-std::vector<double> sa_n_weights(const Scene& scene, const std::vector<SphereDef>& spheres, const SaNCosts& c) {
-  // The scene's bound at frame 0: the minimal sphere around every sphere's axis extremes.
-  std::vector<Vec3d> extremes;
-  for (const SphereDef& s : spheres) {
-    const Affine<double> m = scene.objects[s.object].motion->at(0);
-    const Vec3d c0 = m.point(s.local.c);
-    const double r = s.local.r * max_stretch(m);
-    for (int a = 0; a < 3; ++a) {
-      Vec3d d(0);
-      d[a] = r;
-      extremes.push_back(c0 + d);
-      extremes.push_back(c0 - d);
-    }
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+// Fraction of the directions around p that a sphere covers (1 if p is inside it).
+double cap_fraction(const Vec3d& p, const Vec3d& c, double r) {
+  const Vec3d to = c - p;
+  const double d2 = dot3(to, to);
+  if (d2 <= r * r) return 1;
+  return (1 - std::sqrt(1 - r * r / d2)) / 2;
+}
+}  // namespace
+
+double scene_hull_area(const Scene& scene) {
+  std::vector<Vec3d> points;
+  for (const Object& o : scene.objects) {
+    const Affine<double> m = o.motion->at(0);
+    for (const Vec3d& v : o.mesh.vertices) points.push_back(m.point(v));
   }
-  const double bound = minimal_sphere(extremes).r;
-  const double area = 4 * 3.14159265358979323846 * bound * bound;
+  if (const auto area = convex_hull_area(points)) return *area;
+  const double r = points.empty() ? 1 : std::max(minimal_sphere(points).r, 1e-30);
+  return 4 * kPi * r * r;
+}
+
+std::vector<double> sa_n_weights(const Scene& scene, const std::vector<SphereDef>& spheres, const SaNCosts& c) {
+  const double hull = scene_hull_area(scene);
+  const double lights = static_cast<double>(scene.lights.size());
   std::vector<double> w;
   w.reserve(spheres.size());
   for (std::size_t i = 0; i < spheres.size(); ++i) {
     const SphereDef& s = spheres[i];
-    if (c.bvh.empty()) {
-      w.push_back(c.sphere + s.surface_area() / area * (c.transform + static_cast<double>(s.prims.size()) * c.triangle));
-      continue;
+    const Affine<double> m = scene.objects[s.object].motion->at(0);
+    const Vec3d centre = m.point(s.local.c);
+    const double r = s.local.r * max_stretch(m);
+    double entering = std::min(1.0, 4 * kPi * r * r / hull);
+    for (const PointLight& l : scene.lights) entering += cap_fraction(l.position, centre, r);
+    double entry = c.transform + static_cast<double>(s.prims.size()) * c.triangle;
+    if (!c.bvh.empty()) {
+      entry = c.transform + c.box_setup + c.box;
+      const double area = std::max(s.surface_area(), 1e-300);
+      for (const NodeArea& n : c.bvh.at(i))
+        entry += n.area / area * (n.triangles ? n.triangles * c.triangle : 2 * c.box);
     }
-    double entered = s.surface_area() * (c.transform + c.box_setup + c.box);  // area x cycles
-    for (const NodeArea& n : c.bvh.at(i))
-      entered += n.area * (n.triangles ? n.triangles * c.triangle : 2 * c.box);
-    w.push_back(c.sphere + entered / area);
+    w.push_back((1 + lights) * c.sphere + entering * entry);
   }
   return w;
 }

@@ -27,21 +27,36 @@ struct SaNCosts {
 Assignment static_assignment(const std::string& policy, const Scene& scene, const std::vector<SphereDef>& spheres,
                              std::size_t units, const SaNCosts& costs = {});
 
-// The paper's SA x N made into cycles per ray. For uniformly random lines, the fraction
-// that enter a convex body inside another is the ratio of their surface areas (Crofton),
-// so a sphere of area A_s in a scene bounded by area A costs, per ray,
-//   sphere + (A_s / A) (transform + N_s triangle)
-// -- SA x N plus the two terms SA x N leaves out: every sphere is tested by every ray
-// whatever its size, and each entry costs a transform. A is the area of the sphere
-// bounding the whole scene (at frame 0), the convex body all rays of interest cross.
-// With a BVH the entry term is no longer N_s triangles: by the same argument a node's box is
-// entered with probability A_box / A, so a sphere costs, per ray,
-//   sphere + (A_s / A)(transform + box_setup + box)          (the root, on entry)
-//          + sum over interior nodes (A_n / A) 2 box          (its children's boxes)
-//          + sum over leaves (A_l / A) N_l triangle
-// -- the SAH cost of the sphere's tree. Both ignore that a nearest-hit walk stops early
-// (and a shadow ray at its first occluder), so they overestimate alike.
+// The paper's SA x N made into expected cycles per primary ray, with no knowledge of the
+// viewpoint. Per primary ray a unit tests each of its spheres against the primary ray and
+// one shadow ray per light: (1 + L) sphere tests, whatever the sphere's size. Sphere s is
+// entered by
+//  - primary rays: the viewpoint is unknown, so they are taken as isotropic random lines
+//    through the scene. For such lines, the fraction that meet a convex body s lying in
+//    the convex body H they cross is A_s / A_H (Crofton; at most 1 when s sticks out of H).
+//    H is the convex hull of the scene's geometry at frame 0: every ray that matters
+//    starts in it (at a camera looking at the scene, or on a surface for shadow rays).
+//    The hull, not a bounding sphere: a room's wall spheres reach far outside the room
+//    and the sphere around them has 3.6x the hull's area (docs/results.md).
+//  - shadow rays: these are not isotropic lines, every one ends at a light. Seen from
+//    light l they arrive from all around, so the fraction passing through s is the solid
+//    angle s subtends at l over 4 pi, (1 - sqrt(1 - r^2 / d^2)) / 2, or 1 with the light
+//    inside s. The lights are part of the scene, not of the viewpoint.
+// Each entry costs a transform and N_s triangle tests at their mean cost:
+//   w_s = (1 + L) sphere + (min(1, A_s / A_H) + sum_l cap_l(s)) (transform + N_s triangle)
+// Spheres at their frame-0 positions.
+// With a BVH an entry no longer tests N_s triangles: by the same argument a ray that enters
+// the sphere enters a node's box with probability A_box / A_s, so an entry costs
+//   transform + box_setup + box                      (the root)
+//   + sum over interior nodes (A_n / A_s) 2 box      (its children's boxes)
+//   + sum over leaves (A_l / A_s) N_l triangle
+// -- the SAH cost of the sphere's tree. Both forms ignore that a nearest-hit walk stops
+// early (and a shadow ray at its first occluder), so they overestimate alike.
 std::vector<double> sa_n_weights(const Scene& scene, const std::vector<SphereDef>& spheres,
                                  const SaNCosts& costs = {});
+
+// A_H above: the area of the convex hull of every vertex at frame 0; for a flat scene
+// (no hull with an interior) the area of its minimal enclosing sphere.
+double scene_hull_area(const Scene& scene);
 
 }  // namespace oprt

@@ -37,8 +37,11 @@ struct Prim {
 // sides' SA x N per cluster it must still become is smallest:
 //   minimise max(A_L N_L / k_L, A_R N_R / k_R)
 // over 32 candidate planes per axis (centroid quantiles), k_L = floor(k / 2). Compared with
-// cutting at the median count along the longest axis, this keeps dense or large parts from
-// ending up in one expensive cluster (docs/results.md measures both on the room).
+// cutting at the median count along the longest axis, this cuts at the gaps between parts
+// instead of through them, and keeps dense or large parts from ending up in one expensive
+// cluster. On the room with K = 8 (docs/results.md): sum of SA x N 70,461 unsplit, 24,766
+// balanced, 26,984 median; the IUs' total work 3.7 % below the median rule's, and with
+// sa_n over 30 frames efficiency 0.847 against 0.837, makespan 29.1 against 30.6 M cycles.
 void split(std::vector<Prim> p, int k, std::vector<std::vector<std::uint32_t>>& out) {
   if (k <= 1 || p.size() <= 1) {
     std::vector<std::uint32_t> ids;

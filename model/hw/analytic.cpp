@@ -49,7 +49,9 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
         bytes += geom_.memory_bytes(s);
     if (loaded_[u] == assignment_[u] && bytes == 0) continue;
     out.memory_load_bytes += bytes;
+    const Cycles before = g;
     g = transfer(g, bytes);
+    out.memory_load_cycles += g - before;
     loaded_[u] = assignment_[u];
   }
 

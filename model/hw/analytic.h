@@ -36,6 +36,7 @@ struct FrameRun {
   std::uint64_t makespan = 0;
   std::uint64_t rays[kRayKinds] = {};
   std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0, memory_load_bytes = 0;
+  std::uint64_t memory_load_cycles = 0;  // bus time of the geometry moved in (0 on an ideal bus)
   std::vector<UnitRun> units;
 };
 

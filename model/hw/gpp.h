@@ -36,6 +36,7 @@ struct GppStats {
   sc_core::sc_time start, end;           // the frame's first config write and last retirement
   std::uint64_t config_bytes = 0;
   std::uint64_t memory_load_bytes = 0;   // geometry written into object memories this frame
+  std::uint64_t memory_load_cycles = 0;  // how long the GPP waited for those writes (0 on an ideal bus)
 };
 
 template <typename T>

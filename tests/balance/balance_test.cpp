@@ -1,4 +1,5 @@
 #include "balance/dynamic.h"
+#include "balance/hull_area.h"
 #include "balance/policy.h"
 #include "balance/spheres.h"
 #include "balance/subdivide.h"
@@ -10,6 +11,8 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <numeric>
 #include <random>
 
 using namespace oprt;
@@ -36,6 +39,22 @@ double optimum(const std::vector<double>& w, int m) {
 }
 
 Scene room() { return load_scene(std::string(OPRT_SOURCE_DIR) + "/scenes/paper_room.json"); }
+
+constexpr double kPi = 3.14159265358979323846;
+
+Object static_object(const std::string& name, Mesh mesh) {
+  return {name, 0, std::move(mesh), std::make_shared<StaticMotion>(Affine<double>::identity()), nullptr};
+}
+
+// A cube of side 2 and, at its centre, a cube of side 0.2; one light at (0, 0, 10).
+Scene nested_cubes() {
+  Scene s;
+  s.materials.push_back({"grey", Vec3d(0.8), Vec3d(0), 1});
+  s.lights.push_back({{0, 0, 10}, Vec3d(1)});
+  s.objects.push_back(static_object("big", box(Vec3d(2), 1)));
+  s.objects.push_back(static_object("small", box(Vec3d(0.2), 1)));
+  return s;
+}
 }  // namespace
 
 TEST_CASE("assignments are partitions under every static policy", "[balance]") {
@@ -138,7 +157,8 @@ TEST_CASE("view weights by hand", "[balance]") {
   CHECK(w[0] == Approx(100 * 100));
   CHECK(w[1] == 0);
   const double view_sr = 4 * std::asin(std::sin(3.14159265358979323846 / 4) * std::sin(3.14159265358979323846 / 4));
-  CHECK(w[2] == Approx(1e4 * (3.14159265358979323846 / 100) / view_sr));
+  // The cap seen from 10 away, r = 1: 2 pi (1 - sqrt(0.99)) sr.
+  CHECK(w[2] == Approx(1e4 * (2 * 3.14159265358979323846 * (1 - std::sqrt(0.99))) / view_sr).epsilon(1e-12));
   // A light inside a sphere sends it every lit pixel's shadow ray.
   const auto lit = view_weights(spheres, {1, 1, 1}, cam, 100, 100, {{{0, 0, 10}, Vec3d(1)}}, m);
   CHECK(lit[1] > w[1]);
@@ -194,4 +214,78 @@ TEST_CASE("the image is the same under every policy and subdivision", "[balance]
       engine.run_frame(cmd);
       CHECK(img == ref);
     }
+}
+
+TEST_CASE("convex hull areas by hand", "[balance]") {
+  // A cube of side 2 with points inside it: area 24.
+  std::vector<Vec3d> cube;
+  for (int i = 0; i < 8; ++i) cube.push_back({i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1});
+  cube.push_back({0, 0, 0});
+  cube.push_back({0.5, -0.25, 0.9});
+  CHECK(convex_hull_area(cube).value() == Approx(24).epsilon(1e-12));
+  // The regular tetrahedron of edge sqrt(8) inside it: 4 equilateral faces, sqrt(3) * 8.
+  const std::vector<Vec3d> tet = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+  CHECK(convex_hull_area(tet).value() == Approx(8 * std::sqrt(3.0)).epsilon(1e-12));
+  // No interior: no hull.
+  CHECK_FALSE(convex_hull_area({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}).has_value());
+  CHECK_FALSE(convex_hull_area({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5, 0.2, 0}}).has_value());
+}
+
+TEST_CASE("sa_n weights by hand: Crofton against the hull, shadow rays by the light's solid angle", "[balance]") {
+  const Scene s = nested_cubes();
+  CHECK(scene_hull_area(s) == Approx(24).epsilon(1e-12));
+  const auto spheres = make_spheres(s, 1);
+  REQUIRE(spheres.size() == 2);
+  REQUIRE(spheres[0].prims.size() == 12);
+  REQUIRE(spheres[1].prims.size() == 12);
+  const SaNCosts c;  // 9, 19, 14.25
+  const auto w = sa_n_weights(s, spheres, c);
+  const double body = 19 + 12 * 14.25;
+  // Big cube: radius sqrt(3), area 12 pi > 24: every line through the hull meets it.
+  // The light 10 away sees it under a cap of (1 - sqrt(1 - 3/100)) / 2 of all directions.
+  CHECK(w[0] == Approx(2 * 9 + (1 + (1 - std::sqrt(0.97)) / 2) * body).epsilon(1e-6));
+  // Small cube: radius 0.1 sqrt(3), area 0.12 pi, so 0.12 pi / 24 of the lines.
+  CHECK(w[1] == Approx(2 * 9 + (0.12 * kPi / 24 + (1 - std::sqrt(1 - 0.03 / 100)) / 2) * body).epsilon(1e-6));
+  // A flat scene has no hull with an interior: its minimal sphere's area stands in.
+  Scene flat;
+  Mesh quad;
+  quad.vertices = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}};
+  quad.triangles = {{0, 1, 2}, {0, 2, 3}};
+  flat.objects.push_back(static_object("quad", quad));
+  CHECK(scene_hull_area(flat) == Approx(4 * kPi * 2).epsilon(1e-9));  // r = sqrt(2)
+}
+
+TEST_CASE("lpt by hand", "[balance]") {
+  // By decreasing weight: 7 -> u0, 5 -> u1, 4 -> u1 (5 < 7), 3 -> u0 (7 < 9), 3 -> u1 (9 < 10).
+  const Assignment a = assign_weighted({7, 5, 4, 3, 3}, 2);
+  CHECK(a.unit[0] == std::vector<std::uint32_t>{0, 3});
+  CHECK(a.unit[1] == std::vector<std::uint32_t>{1, 2, 4});
+  // 12 against the optimum 11 ({7, 4} and {5, 3, 3}), within 4/3 - 1/6.
+  CHECK(makespan(a, {7, 5, 4, 3, 3}) == 12);
+  CHECK(optimum({7, 5, 4, 3, 3}, 2) == 11);
+}
+
+TEST_CASE("the balanced split cuts at the gap between clusters, the median split at the count", "[balance]") {
+  // 30 small triangles spread over x in [0, 1], then 10 over x in [10, 11].
+  Mesh m;
+  auto add = [&](double x) {
+    const auto b = static_cast<std::uint32_t>(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), {{x, 0, 0}, {x + 0.01, 0.1, 0}, {x, 0, 0.1}});
+    m.triangles.push_back({b, b + 1, b + 2});
+  };
+  for (int i = 0; i < 30; ++i) add(i / 30.0);
+  for (int i = 0; i < 10; ++i) add(10 + i / 10.0);
+  std::vector<std::uint32_t> first(30), second(10);
+  std::iota(first.begin(), first.end(), 0u);
+  std::iota(second.begin(), second.end(), 30u);
+  // Balanced: any cut other than at 30 leaves a piece spanning the 9-unit gap, whose
+  // sphere costs more SA x N than both clusters' together.
+  const auto balanced = subdivide(m, 2, SplitRule::balanced_san);
+  REQUIRE(balanced.size() == 2);
+  CHECK(((balanced[0] == first && balanced[1] == second) || (balanced[0] == second && balanced[1] == first)));
+  // Median: 20 and 20, the second piece spanning the gap.
+  const auto median = subdivide(m, 2, SplitRule::median);
+  REQUIRE(median.size() == 2);
+  CHECK(median[0].size() == 20);
+  CHECK(median[1].size() == 20);
 }
