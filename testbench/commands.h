@@ -11,6 +11,7 @@ struct CommonOptions {
   std::string resolution;
   std::string out = "out";
   std::string precision = "float";
+  std::string kernel = "moller";
   int subdivide = 1;
   bool schedules = false;
 };

@@ -14,7 +14,8 @@ namespace oprt {
 
 int run_info(const CommonOptions& o) {
   if (o.schedules) {
-    for (const OpGraph* g : {&sphere_textbook_graph(), &sphere_stable_graph(), &transform_graph(), &moller_graph()}) {
+    for (const OpGraph* g : {&sphere_textbook_graph(), &sphere_stable_graph(), &transform_graph(), &moller_graph(),
+                              &transform_watertight_graph(), &watertight_graph()}) {
       const Schedule s = list_schedule(*g);
       std::printf("%s\n", s.table().c_str());
     }

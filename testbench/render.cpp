@@ -29,7 +29,11 @@ Arch resolve_arch(const RenderOptions& o) {
   if (o.balance) a.balance = *o.balance;
   if (o.subdivide) a.subdivide = *o.subdivide;
   if (o.accel) a.accel = *o.accel;
-  if (o.kernel) a.kernel = *o.kernel;
+  if (o.kernel) {
+    const auto k = kernel_named(*o.kernel);
+    if (!k) throw InputError("--kernel", *o.kernel, "unknown kernel (expected moller or watertight)");
+    a.kernel = *k;
+  }
   if (o.precision) a.precision = *o.precision;
   return a;
 }
@@ -51,11 +55,11 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
   const bool dynamic = job.arch.balance == "feedback" || job.arch.balance == "view";
   SaNCosts costs;
   costs.sphere = job.arch.costs.sphere;
-  costs.transform = job.arch.costs.transform;
+  costs.transform = job.arch.kernel_costs().transform;
   costs.triangle = 0;
-  for (auto c : job.arch.costs.tri_stage) costs.triangle += c / double(kTriStages);
+  for (auto c : job.arch.kernel_costs().tri_stage) costs.triangle += c / double(kTriStages);
   job.assignment = static_assignment(dynamic ? "sa_n" : job.arch.balance, scene, spheres, units, costs);
-  SceneGeometry<T> geometry = build_geometry<T>(scene, spheres);
+  SceneGeometry<T> geometry = build_geometry<T>(scene, spheres, job.arch.kernel);
   nlohmann::json sphere_info = nlohmann::json::array();
   for (const SphereDef& d : spheres)
     sphere_info.push_back({{"object", d.object}, {"primitives", d.prims.size()}, {"radius", d.local.r},
@@ -98,7 +102,6 @@ int run_render(const RenderOptions& o) {
   if (job.arch.level == Level::analytic && !o.vcd.empty())
     throw InputError("--vcd", o.vcd, "the analytic level has no simulated signals to trace (use --level at or lt)");
   not_yet(job.arch.accel == "bvh", "--accel bvh");
-  not_yet(job.arch.kernel == "watertight", "--kernel watertight");
   job.width = scene.width;
   job.height = scene.height;
   parse_resolution(o.resolution, job.width, job.height);

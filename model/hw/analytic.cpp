@@ -46,7 +46,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     std::uint64_t bytes = 0;
     for (std::uint32_t s : assignment_[u])
       if (geom_.deforming[s] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())
-        bytes += static_cast<std::uint64_t>(geom_.triangles_in(s)) * Bytes<T>::triangle;
+        bytes += static_cast<std::uint64_t>(geom_.triangles_in(s)) * geom_.triangle_bytes();
     if (loaded_[u] == assignment_[u] && bytes == 0) continue;
     out.memory_load_bytes += bytes;
     g = transfer(g, bytes);

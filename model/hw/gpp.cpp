@@ -193,7 +193,7 @@ void Gpp<T>::load_memories() {
     std::uint64_t bytes = 0;
     for (std::uint32_t s : assignment_[u])
       if (geom_.deforming[s] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())
-        bytes += static_cast<std::uint64_t>(geom_.triangles_in(s)) * Bytes<T>::triangle;
+        bytes += static_cast<std::uint64_t>(geom_.triangles_in(s)) * geom_.triangle_bytes();
     if (loaded_[u] == assignment_[u] && bytes == 0) continue;
     MemoryLoadPacket packet{assignment_[u]};
     stats_.memory_load_bytes += bytes;

@@ -57,7 +57,7 @@ void IntersectionUnit<T>::read_memory(std::uint32_t sphere, std::uint32_t triang
   read_.set_command(tlm::TLM_READ_COMMAND);
   read_.set_address(0);
   read_.set_data_ptr(reinterpret_cast<unsigned char*>(&packet));
-  read_.set_data_length(triangles * Bytes<T>::triangle);
+  read_.set_data_length(triangles * Bytes<T>::triangle(geom_.kernel()));
   read_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
   sc_time latency = SC_ZERO_TIME;  // the latency enters through stream_stall(), per triangle
   mem->b_transport(read_, latency);

@@ -28,7 +28,7 @@ struct UnitCycles {
   }
 };
 
-inline std::uint64_t primitive_cycles(const WorkCounts& w, const CycleCosts& c) {
+inline std::uint64_t primitive_cycles(const WorkCounts& w, const KernelCosts& c) {
   std::uint64_t n = 0;
   for (int k = 0; k < kTriStages; ++k) n += w.tri_stage[k] * c.tri_stage[k];
   return n;
@@ -39,13 +39,14 @@ inline std::uint64_t primitive_cycles(const WorkCounts& w, const CycleCosts& c) 
 template <typename T>
 inline UnitCycles visit_cycles(const SphereVisit& v, const Arch& a) {
   UnitCycles c;
+  const KernelCosts& k = a.kernel_costs();
   c.sphere = v.work.sphere_tests * a.costs.sphere;
-  c.transform = v.work.transforms * a.costs.transform;
-  c.primitive = primitive_cycles(v.work, a.costs);
+  c.transform = v.work.transforms * k.transform;
+  c.primitive = primitive_cycles(v.work, k);
   if (a.memory.model == MemoryModel::latency && v.work.transforms && v.stages) {
     const auto n = static_cast<std::uint32_t>(v.work.tri_tests());
-    c.stall = stream_stall(a.memory.latency_cycles, a.memory.bytes_per_cycle, Bytes<T>::triangle, a.costs.transform,
-                           v.stages, n, a.costs.tri_stage);
+    c.stall = stream_stall(a.memory.latency_cycles, a.memory.bytes_per_cycle, Bytes<T>::triangle(a.kernel), k.transform,
+                           v.stages, n, k.tri_stage);
   }
   return c;
 }
@@ -56,16 +57,17 @@ template <typename T>
 inline UnitCycles charge_visit(const SphereVisit& v, const Arch& a, std::vector<WorkCounts>& per_sphere,
                                std::uint64_t& memory_bytes) {
   per_sphere[v.sphere] += v.work;
-  if (v.work.transforms) memory_bytes += v.work.tri_tests() * Bytes<T>::triangle;
+  if (v.work.transforms) memory_bytes += v.work.tri_tests() * Bytes<T>::triangle(a.kernel);
   return visit_cycles<T>(v, a);
 }
 
 // Cycles of a whole work table (no stalls): what the functional counts predict.
-inline UnitCycles work_cycles(const WorkCounts& w, const CycleCosts& c) {
+inline UnitCycles work_cycles(const WorkCounts& w, const CycleCosts& c, Kernel kernel) {
+  const KernelCosts& k = c.of(kernel);
   UnitCycles u;
   u.sphere = w.sphere_tests * c.sphere;
-  u.transform = w.transforms * c.transform;
-  u.primitive = primitive_cycles(w, c);
+  u.transform = w.transforms * k.transform;
+  u.primitive = primitive_cycles(w, k);
   return u;
 }
 

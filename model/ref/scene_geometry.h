@@ -22,18 +22,21 @@ struct SceneGeometry {
   std::vector<Sphere<T>> local_sphere;   // per sphere, enclosing its T-rounded triangles
   std::vector<std::uint32_t> object;     // per sphere: its object
   std::vector<std::uint32_t> first;      // per sphere: first triangle in `tris`; size + 1
-  MollerSoA<T> tris;                     // grouped by sphere, each sphere's in prim order
+  TriangleStore<T> tris;                 // grouped by sphere, each sphere's in prim order
   std::vector<std::uint32_t> prim;       // per stored triangle: index in the object's mesh
   std::vector<char> deforming;           // per sphere: its object's vertices move (BART tpa)
 
   std::uint32_t sphere_count() const { return static_cast<std::uint32_t>(object.size()); }
   std::uint32_t triangles_in(std::uint32_t s) const { return first[s + 1] - first[s]; }
+  Kernel kernel() const { return tris.kernel; }
   // Bytes one triangle occupies in object memory (the memory model charges transfers).
-  static constexpr std::uint32_t kTriangleBytes = 12 * sizeof(T);
+  std::uint32_t triangle_bytes() const { return tris.bytes_per_triangle(); }
 };
 
+// Throws InputError if a vertex does not fit precision T (a coordinate beyond float's range
+// would become infinite).
 template <typename T>
-SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs);
+SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs, Kernel kernel = Kernel::moller);
 
 // For scenes with non-rigid objects: rewrite the deforming spheres' triangles and local
 // spheres for frame f (the clusters, fixed at frame 0, keep their triangles). Between
@@ -42,8 +45,8 @@ template <typename T>
 std::uint64_t update_deforming(SceneGeometry<T>& g, const Scene& scene, int frame);
 bool has_deforming(const Scene& scene);
 
-extern template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>);
-extern template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>);
+extern template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>, Kernel);
+extern template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>, Kernel);
 extern template std::uint64_t update_deforming(SceneGeometry<float>&, const Scene&, int);
 extern template std::uint64_t update_deforming(SceneGeometry<double>&, const Scene&, int);
 

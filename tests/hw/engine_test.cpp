@@ -37,7 +37,7 @@ std::vector<hw::UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<
         for (std::size_t u = 0; u < a.units(); ++u) trace_any(g, regs[u], s, [&](const SphereVisit& v) { work[u] += v.work; });
     }
   std::vector<hw::UnitCycles> out;
-  for (const WorkCounts& wk : work) out.push_back(hw::work_cycles(wk, costs));
+  for (const WorkCounts& wk : work) out.push_back(hw::work_cycles(wk, costs, g.kernel()));
   return out;
 }
 
