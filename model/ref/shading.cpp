@@ -79,6 +79,23 @@ Vec3d offset_origin(Kernel kernel, const Vec3d& p, const Vec3d& n, const Vec3d& 
   return o;
 }
 
+SurfacePoint surface_point(const Object& obj, const Placement& pl, std::uint32_t prim, double u, double v) {
+  const Tri& tri = obj.mesh.triangles[prim];
+  SurfacePoint s;
+  s.a = obj.mesh.vertices[tri[0]];
+  s.b = obj.mesh.vertices[tri[1]];
+  s.c = obj.mesh.vertices[tri[2]];
+  s.p = pl.to_world.point(s.a + (s.b - s.a) * u + (s.c - s.a) * v);
+  // Normals transform by the inverse transpose: n_world = (L^-1)^T n_local.
+  const Vec3d nl = cross3(s.b - s.a, s.c - s.a);
+  const auto& li = pl.to_local.m;
+  const Vec3d n{li[0][0] * nl.x + li[1][0] * nl.y + li[2][0] * nl.z,
+                li[0][1] * nl.x + li[1][1] * nl.y + li[2][1] * nl.z,
+                li[0][2] * nl.x + li[1][2] * nl.y + li[2][2] * nl.z};
+  s.n = glm::normalize(n);
+  return s;
+}
+
 template <typename T>
 ShadeState<T> Shader<T>::prepare(const Ray<T>& primary, const HitRecord<T>& hit,
                                  std::vector<Ray<T>>& shadow) const {
@@ -86,17 +103,9 @@ ShadeState<T> Shader<T>::prepare(const Ray<T>& primary, const HitRecord<T>& hit,
   const Object& obj = scene_.objects[hit.object];
   const Material& mat = scene_.materials[obj.material];
   const Placement& pl = frame_.placement[hit.object];
-  const Tri& tri = obj.mesh.triangles[hit.prim];
-  const Vec3d a = obj.mesh.vertices[tri[0]], b = obj.mesh.vertices[tri[1]], c = obj.mesh.vertices[tri[2]];
-  const double u = hit.u, v = hit.v;
-  const Vec3d p = pl.to_world.point(a + (b - a) * u + (c - a) * v);
-  // Normals transform by the inverse transpose: n_world = (L^-1)^T n_local.
-  const Vec3d nl = cross3(b - a, c - a);
-  const auto& li = pl.to_local.m;
-  Vec3d n{li[0][0] * nl.x + li[1][0] * nl.y + li[2][0] * nl.z,
-          li[0][1] * nl.x + li[1][1] * nl.y + li[2][1] * nl.z,
-          li[0][2] * nl.x + li[1][2] * nl.y + li[2][2] * nl.z};
-  n = glm::normalize(n);
+  const SurfacePoint sp = surface_point(obj, pl, hit.prim, hit.u, hit.v);
+  const Vec3d &p = sp.p, &a = sp.a, &b = sp.b, &c = sp.c;
+  Vec3d n = sp.n;
   const Vec3d view = -glm::normalize(Vec3d(primary.d));
   if (dot3(n, view) < 0) n = -n;  // two-sided: shade the side the ray sees
   s.color = scene_.ambient * mat.diffuse;

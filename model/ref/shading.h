@@ -10,6 +10,15 @@
 
 namespace oprt {
 
+// The world point and unit geometric normal (not yet turned towards the viewer) at a hit
+// on an object's triangle, from the hit's barycentrics, in double; and the triangle's
+// local vertices (for the shadow-ray offset).
+struct SurfacePoint {
+  Vec3d p, n;
+  Vec3d a, b, c;
+};
+SurfacePoint surface_point(const Object& obj, const Placement& placement, std::uint32_t prim, double u, double v);
+
 template <typename T>
 struct ShadeState {
   Vec3d color{0};                 // ambient term, then the visible lights added in order
