@@ -1,6 +1,8 @@
 #include "hard_cases.h"
 
 #include "balance/spheres.h"
+#include "ref/camera.h"
+#include "ref/reference.h"
 #include "ref/shading.h"
 #include "ref/traverse.h"
 #include "scene/error.h"
@@ -343,13 +345,21 @@ Outcome through_case(Kernel k) {
   return out;
 }
 
-template <typename T>
+// Meshes 1 to 1e5 from the origin, placed by their object transform, or (in_coordinates)
+// with the placement baked into their vertices and an identity transform (as BART's
+// world-space meshes come): then the kernels work with large local coordinates.
+template <typename T, bool kInCoordinates = false>
 Outcome far_case(Kernel k) {
   Outcome out;
-  Rng rng(4);
+  Rng rng(kInCoordinates ? 14 : 4);
   for (double offset : {1.0, 1e1, 1e2, 1e3, 1e4, 1e5})
-    for (const Mesh& m : closed_meshes()) {
-      const Placed<T> P(m, rigid(rng, random_unit(rng) * offset), k);
+    for (Mesh m : closed_meshes()) {
+      Affine<double> to_world = rigid(rng, random_unit(rng) * offset);
+      if (kInCoordinates) {
+        for (Vec3d& v : m.vertices) v = to_world.point(v);
+        to_world = Affine<double>::identity();
+      }
+      const Placed<T> P(m, to_world, k);
       aim_at_edges_and_vertices(P, topology_of(m), rng, 1, out);
     }
   return out;
@@ -642,6 +652,8 @@ const std::vector<HardCase>& hard_cases() {
        through_case<double>},
       {"far from origin", "edges and vertices of meshes placed 1 to 1e5 from the origin", true, far_case<float>,
        far_case<double>},
+      {"far in coordinates", "the same with the placement in the vertices (identity transform)", true,
+       far_case<float, true>, far_case<double, true>},
       {"scaled", "edges of meshes scaled 1e-4 to 1e4, also non-uniformly; wrong: t is not the world distance", true,
        scaled_case<float>, scaled_case<double>},
       {"grazing", "rays entering a face at 1e-1 to 1e-6 rad", false, grazing_case<float>, grazing_case<double>},
@@ -671,6 +683,73 @@ const HardCase& hard_case(const std::string& name) {
 
 Outcome textbook_sphere_case(bool dbl) {
   return dbl ? tiny_spheres<double, true>(Kernel::moller) : tiny_spheres<float, true>(Kernel::moller);
+}
+
+namespace {
+// One closed convex mesh 1e5 from the origin seen through a long lens from 40 radii away
+// (a long ray to the mesh widens the band around an edge where a non-watertight test can
+// lose a pixel), one light.
+Scene far_scene(const Mesh& mesh, const Affine<double>& to_world, int size) {
+  Scene s;
+  s.source = "image check";
+  s.width = s.height = size;
+  s.materials.push_back({});
+  s.objects.push_back({"mesh", 0, mesh, std::make_shared<StaticMotion>(to_world), nullptr});
+  const Vec3d c0 = centroid(mesh);
+  double r = 0;
+  for (const Vec3d& v : mesh.vertices) r = std::max(r, std::sqrt(dot3(v - c0, v - c0)));
+  r *= max_stretch(to_world);
+  const Vec3d c = to_world.point(c0);
+  Camera cam;
+  cam.eye = c + glm::normalize(Vec3d(0.3, 0.4, 1)) * (40 * r);
+  cam.target = c;
+  cam.fov_y_deg = 3.5;
+  s.camera = std::make_shared<FixedCamera>(cam);
+  s.lights.push_back({cam.eye + Vec3d(r, 2 * r, 0), Vec3d(1)});
+  return s;
+}
+
+template <typename T>
+ImageCheck image_check_t(Kernel k, bool in_coordinates, int size) {
+  ImageCheck out;
+  Rng rng(13);
+  const Vec3d offset = Vec3d(1, 0.3, -0.2) * 1e5;
+  const std::pair<Mesh, double> meshes[] = {{uv_sphere(1, 48, 24), 50.0}, {box({2, 2, 2}, 8), 40.0}};
+  for (auto [mesh, scale_by] : meshes) {
+    Affine<double> to_world = rigid(rng, offset) * scale(Vec3d(scale_by));
+    if (in_coordinates) {  // the placement baked into the vertices; the object's map is identity
+      for (Vec3d& v : mesh.vertices) v = to_world.point(v);
+      to_world = Affine<double>::identity();
+      scale_by = 1;
+    }
+    const Scene scene = far_scene(mesh, to_world, size);
+    const SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, 1), k);
+    const FrameResult r = render_reference(scene, g, 0, size, size);
+    // The oracle: the double camera ray, in the local frame, passes clearly inside the
+    // mesh (by more than float's rounding of rays 1e5 from the origin can move it).
+    const Convex cv = convex_of(mesh);
+    const Placement pl = *make_placement(scene.objects[0].motion->at(0));
+    const double margin = 64 * static_cast<double>(unit_roundoff<float>()) * 2 * max_abs_component(offset) / scale_by;
+    const CameraRays cam(scene.camera->at(0), size, size);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const Ray<double> w = cam.ray<double>(x, y);
+        const Vec3d o = pl.to_local.point(w.o), d = pl.to_local.vector(w.d);
+        const Chord ch = clip(cv, o, d);
+        const double tm = 0.5 * (ch.t_in + ch.t_out);
+        if (ch.empty() || clearance(cv, o + d * tm) < margin) continue;
+        ++out.inside_pixels;
+        const std::size_t i = static_cast<std::size_t>(y) * size + x;
+        if (r.image.object[i] == kNone) ++out.background_inside;
+        else if (r.image.z[i] > tm) ++out.see_through;  // the front was missed, the back shows
+      }
+  }
+  return out;
+}
+}  // namespace
+
+ImageCheck image_check(Kernel k, bool dbl, bool in_coordinates, int size) {
+  return dbl ? image_check_t<double>(k, in_coordinates, size) : image_check_t<float>(k, in_coordinates, size);
 }
 
 Outcome shadow_case_without_offset(Kernel k, bool dbl) {

@@ -42,6 +42,16 @@ const HardCase& hard_case(const std::string& name);  // throws std::out_of_range
 // The "tiny spheres far away" case run with the paper's textbook sphere test, which the
 // model does not use: its misses show why.
 Outcome textbook_sphere_case(bool dbl);
+// The image-level check: a closed mesh (a UV sphere, then a subdivided box) placed 1e5
+// from the origin, by its object transform or (in_coordinates) in its own vertex
+// coordinates, rendered by the reference renderer at size x size; the pixels whose
+// double-precision camera ray passes clearly inside it, how many of those show the
+// background, and how many show the mesh's far side (the ray leaked through its front).
+struct ImageCheck {
+  std::uint64_t inside_pixels = 0, background_inside = 0, see_through = 0;
+};
+ImageCheck image_check(Kernel k, bool dbl, bool in_coordinates, int size);
+
 // The "shadow rays" case with origins at the hit points themselves, no offset.
 Outcome shadow_case_without_offset(Kernel k, bool dbl);
 

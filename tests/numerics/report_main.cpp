@@ -49,6 +49,19 @@ int main() {
               "%llu of %llu rays missed in float, %llu of %llu in double.\n",
               (unsigned long long)tf.sphere_misses, (unsigned long long)tf.trials, (unsigned long long)td.sphere_misses,
               (unsigned long long)td.trials);
+  for (bool coords : {false, true}) {
+    std::printf("Image check, closed meshes 1e5 from the origin %s, 256x256, pixels inside the silhouette "
+                "showing background / the far side:",
+                coords ? "in their vertex coordinates" : "by their object transform");
+    for (Kernel k : {Kernel::moller, Kernel::watertight})
+      for (bool dbl : {false, true}) {
+        const ImageCheck c = image_check(k, dbl, coords, 256);
+        std::printf("%s %s %s %llu / %llu of %llu", k == Kernel::moller && !dbl ? "" : ",", to_string(k),
+                    dbl ? "double" : "float", (unsigned long long)c.background_inside,
+                    (unsigned long long)c.see_through, (unsigned long long)c.inside_pixels);
+      }
+    std::printf(".\n");
+  }
   std::printf("Shadow rays started at the hit point itself, without the offset: self hits");
   for (Kernel k : {Kernel::moller, Kernel::watertight})
     for (bool dbl : {false, true}) {
