@@ -133,9 +133,14 @@ TEST_CASE("cli: render --kernel watertight equals reference --kernel watertight 
   REQUIRE(run_oprt(render + " --kernel watertight --level at --out " + (d / "at").string()).status == 0);
   REQUIRE(run_oprt(render + " --arch " + (d / "arch.json").string() + " --level analytic --out " +
                    (d / "an").string()).status == 0);
+  REQUIRE(run_oprt(render + " --kernel watertight --level lt --quantum 10us --out " + (d / "lt").string()).status == 0);
   const auto ref = oprt::read_exr((d / "ref" / "frame_0000.exr").string());
   CHECK(oprt::read_exr((d / "at" / "frame_0000.exr").string()) == ref);
+  CHECK(oprt::read_exr((d / "lt" / "frame_0000.exr").string()) == ref);
   CHECK(oprt::read_exr((d / "an" / "frame_0000.exr").string()) == ref);
+  for (int u = 0; u < 5; ++u)
+    for (const char* c : {"sphere", "transform", "primitive"})
+      CHECK(stats(d / "at")["frames"][0]["ius"][u]["cycles"][c] == stats(d / "lt")["frames"][0]["ius"][u]["cycles"][c]);
   std::ifstream in(d / "ref" / "reference.json");
   const auto refj = nlohmann::json::parse(in);
   CHECK(refj["kernel"] == "watertight");
