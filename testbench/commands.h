@@ -14,6 +14,7 @@ struct CommonOptions {
   std::string out = "out";
   std::string precision = "float";
   std::string accel = "brute";
+  std::string kernel = "moller";
   int subdivide = 1;
   bool schedules = false;
   LoadOptions load;

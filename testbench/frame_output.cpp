@@ -25,7 +25,7 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   for (const hw::UnitRun& r : run.units)
     for (int k = 0; k < kRayKinds; ++k)
       for (std::uint32_t s = 0; s < geometry.sphere_count(); ++s) {
-        fs.sphere_cycles[s] += hw::work_cycles(r.per_sphere[k][s], job.arch.costs).busy();
+        fs.sphere_cycles[s] += hw::work_cycles(r.per_sphere[k][s], job.arch.costs, job.arch.kernel).busy();
         fs.sphere_entries[s][k] += r.per_sphere[k][s].transforms;
       }
   for (std::size_t u = 0; u < run.units.size(); ++u) {

@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   auto* ref = app.add_subcommand("reference", "render with the untimed functional reference");
   add_scene(ref);
   ref->add_option("--precision", opt.precision, "float | double")->check(CLI::IsMember({"float", "double"}));
+  ref->add_option("--kernel", opt.kernel, "moller | watertight")->check(CLI::IsMember({"moller", "watertight"}));
   ref->add_option("--frames", opt.frames, "N or A:B (inclusive); default: every frame");
   ref->add_option("--resolution", opt.resolution, "WxH; default: the scene's");
   ref->add_option("--out", opt.out, "output directory");

@@ -23,7 +23,7 @@ const Assignment& PolicyDriver<T>::for_frame(int f, const hw::FrameRun* previous
     for (const hw::UnitRun& u : previous->units)
       for (int k = 0; k < kRayKinds; ++k)
         for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s)
-          w[s] += static_cast<double>(hw::work_cycles(u.per_sphere[k][s], arch_.costs).busy());
+          w[s] += static_cast<double>(hw::work_cycles(u.per_sphere[k][s], arch_.costs, arch_.kernel).busy());
   } else {
     const FrameSetup<T> setup = setup_frame(scene_, geom_, f);
     std::vector<Sphere<double>> world;
@@ -34,10 +34,10 @@ const Assignment& PolicyDriver<T>::for_frame(int f, const hw::FrameRun* previous
     }
     ViewCostModel m;
     m.sphere_cycles = arch_.costs.sphere;
-    m.transform_cycles = arch_.costs.transform;
+    m.transform_cycles = arch_.kernel_costs().transform;
     // Most tests exit early: the mean of the stage costs is a fair single number.
     m.triangle_cycles = 0;
-    for (auto c : arch_.costs.tri_stage) m.triangle_cycles += c / double(kTriStages);
+    for (auto c : arch_.kernel_costs().tri_stage) m.triangle_cycles += c / double(kTriStages);
     w = view_weights(world, prims, setup.camera, width_, height_, scene_.lights, m);
   }
   current_ = keep_in_place(assign_weighted(w, current_.units()), current_, bytes_);

@@ -32,7 +32,8 @@ int reference(const CommonOptions& o, const Scene& scene) {
   parse_resolution(o.resolution, width, height);
   const FrameRange frames = parse_frames(o.frames, scene);
   const auto t_build = std::chrono::steady_clock::now();
-  SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, o.subdivide), accel_named(o.accel));
+  const Kernel kernel = kernel_named(o.kernel).value_or(Kernel::moller);
+  SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, o.subdivide), kernel, accel_named(o.accel));
   const bool deforming = has_deforming(scene);
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
   std::filesystem::create_directories(o.out);
@@ -40,6 +41,9 @@ int reference(const CommonOptions& o, const Scene& scene) {
   nlohmann::json stats = {{"scene", o.scene},
                           {"precision", o.precision},
                           {"accel", o.accel},
+                          {"kernel", to_string(kernel)},
+                          {"triangle_exit_stages", {stage_names(kernel)[0], stage_names(kernel)[1],
+                                                    stage_names(kernel)[2], stage_names(kernel)[3]}},
                           {"resolution", {width, height}},
                           {"spheres", g.sphere_count()},
                           {"triangles", scene.triangle_count()},

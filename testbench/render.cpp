@@ -29,16 +29,16 @@ Arch resolve_arch(const RenderOptions& o) {
   if (o.balance) a.balance = *o.balance;
   if (o.subdivide) a.subdivide = *o.subdivide;
   if (o.accel) a.accel = *o.accel;
-  if (o.kernel) a.kernel = *o.kernel;
+  if (o.kernel) {
+    const auto k = kernel_named(*o.kernel);
+    if (!k) throw InputError("--kernel", *o.kernel, "unknown kernel (expected moller or watertight)");
+    a.kernel = *k;
+  }
   if (o.precision) a.precision = *o.precision;
   return a;
 }
 
 namespace {
-
-void not_yet(bool unsupported, const std::string& what) {
-  if (unsupported) throw InputError("oprt render", what, "not implemented yet in this version of the model");
-}
 
 // Per sphere its BVH nodes' box areas and leaf sizes, for the sa_n weights.
 template <typename T>
@@ -61,12 +61,12 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
                 job.arch.ius, spheres.size(), units);
   // Dynamic policies start from sa_n (feedback has nothing measured before the first frame).
   const bool dynamic = job.arch.balance == "feedback" || job.arch.balance == "view";
-  SceneGeometry<T> geometry = build_geometry<T>(scene, spheres, accel_named(job.arch.accel));
+  SceneGeometry<T> geometry = build_geometry<T>(scene, spheres, job.arch.kernel, accel_named(job.arch.accel));
   SaNCosts costs;
   costs.sphere = job.arch.costs.sphere;
-  costs.transform = job.arch.costs.transform;
+  costs.transform = job.arch.kernel_costs().transform;
   costs.triangle = 0;
-  for (auto c : job.arch.costs.tri_stage) costs.triangle += c / double(kTriStages);
+  for (auto c : job.arch.kernel_costs().tri_stage) costs.triangle += c / double(kTriStages);
   costs.box_setup = job.arch.costs.box_setup;
   costs.box = job.arch.costs.box;
   if (geometry.has_bvh()) costs.bvh = node_areas(geometry);  // sa_n weighs the trees' SAH cost
@@ -122,7 +122,6 @@ int run_render(const RenderOptions& o) {
   job.arch = resolve_arch(o);
   if (job.arch.level == Level::analytic && !o.vcd.empty())
     throw InputError("--vcd", o.vcd, "the analytic level has no simulated signals to trace (use --level at or lt)");
-  not_yet(job.arch.kernel == "watertight", "--kernel watertight");
   job.width = scene.width;
   job.height = scene.height;
   parse_resolution(o.resolution, job.width, job.height);

@@ -71,6 +71,8 @@ std::string why_not_invertible(const Affine<double>& a) {
   if (!a.finite()) return "matrix has a NaN or infinite entry";
   const double det = det3(a);
   const double scale_free = column_length(a, 0) * column_length(a, 1) * column_length(a, 2);
+  if (!std::isfinite(det) || !std::isfinite(scale_free))
+    return "matrix entries are too large (its determinant overflows double precision)";
   if (det == 0 || !(scale_free > 0)) return "matrix is singular (determinant 0)";
   if (!(std::fabs(det) >= kMinRelativeDet * scale_free)) {
     std::ostringstream s;

@@ -2,6 +2,7 @@
 // reporting the stage at which the test exited (the IU charges cycles by exit stage).
 #pragma once
 
+#include "geom/kernel.h"
 #include "geom/ray.h"
 
 namespace oprt {
@@ -37,11 +38,10 @@ enum class TriStage : std::uint8_t {
   v = 2,    // second barycentric outside, or u + v > 1
   t = 3,    // distance computed: accepted, or rejected outside (0, tmax)
 };
-constexpr int kTriStages = 4;
 
-template <typename T>
+template <typename T, typename Stage = TriStage>
 struct TriangleHit {
-  TriStage stage = TriStage::det;
+  Stage stage = Stage(0);
   bool hit = false;
   T t = kInf<T>, u = 0, v = 0;  // valid when hit
 };

@@ -50,6 +50,23 @@ std::string one_of(const JsonIn& j, std::initializer_list<const char*> options) 
   j.fail("unknown value \"" + v + "\" (expected one of: " + list + ")");
 }
 int cycles(const JsonIn& j) { return static_cast<int>(j.integer(0, 1000000)); }
+
+// "transform" and "triangle" (one cost per exit stage, in the kernel's stage order).
+void read_kernel_costs(const JsonIn& j, Kernel k, KernelCosts& c) {
+  if (auto v = j.find("transform")) c.transform = cycles(*v);
+  if (auto v = j.find("triangle")) {
+    auto items = v->items();
+    const char* const* names = stage_names(k);
+    if (items.size() != kTriStages)
+      v->fail("expected " + std::to_string(kTriStages) + " cycle counts (exit stages " + names[0] + ", " + names[1] +
+              ", " + names[2] + ", " + names[3] + "), found " + std::to_string(items.size()));
+    for (int s = 0; s < kTriStages; ++s) c.tri_stage[s] = cycles(items[s]);
+  }
+}
+
+nlohmann::json stage_costs_json(const KernelCosts& c) {
+  return {c.tri_stage[0], c.tri_stage[1], c.tri_stage[2], c.tri_stage[3]};
+}
 }  // namespace
 
 Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
@@ -63,17 +80,14 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   a.clock_mhz = root.number_or("clock_mhz", a.clock_mhz, 1e-3, 1e6);
   a.ius = static_cast<int>(root.integer_or("ius", a.ius, 1, 65536));
   if (auto c = root.find("costs")) {
-    c->only_keys({"sphere", "transform", "triangle", "box", "box_setup"});
+    c->only_keys({"sphere", "transform", "triangle", "watertight", "box", "box_setup"});
     if (auto v = c->find("sphere")) a.costs.sphere = cycles(*v);
-    if (auto v = c->find("transform")) a.costs.transform = cycles(*v);
     if (auto v = c->find("box")) a.costs.box = cycles(*v);
     if (auto v = c->find("box_setup")) a.costs.box_setup = cycles(*v);
-    if (auto v = c->find("triangle")) {
-      auto items = v->items();
-      if (items.size() != kTriStages)
-        v->fail("expected " + std::to_string(kTriStages) + " cycle counts (exit stages det, u, v, t), found " +
-                std::to_string(items.size()));
-      for (int k = 0; k < kTriStages; ++k) a.costs.tri_stage[k] = cycles(items[k]);
+    read_kernel_costs(*c, Kernel::moller, a.costs.moller);
+    if (auto w = c->find("watertight")) {
+      w->only_keys({"transform", "triangle"});
+      read_kernel_costs(*w, Kernel::watertight, a.costs.watertight);
     }
   }
   a.fifo_depth = static_cast<int>(root.integer_or("ray_fifo_depth", a.fifo_depth, 0, 1 << 24));
@@ -101,7 +115,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   a.subdivide = static_cast<int>(root.integer_or("subdivide", a.subdivide, 1, 4096));
   if (auto v = root.find("split_rule")) a.split_rule = one_of(*v, {"balanced", "median"});
   if (auto v = root.find("accel")) a.accel = one_of(*v, {"brute", "bvh"});
-  if (auto v = root.find("kernel")) a.kernel = one_of(*v, {"moller", "watertight"});
+  if (auto v = root.find("kernel")) a.kernel = *kernel_named(one_of(*v, {"moller", "watertight"}));
   if (auto v = root.find("precision")) a.precision = one_of(*v, {"float", "double"});
   return a;
 }
@@ -112,8 +126,10 @@ nlohmann::json to_json(const Arch& a) {
   return {{"source", a.source},
           {"clock_mhz", a.clock_mhz},
           {"ius", a.ius},
-          {"costs", {{"sphere", a.costs.sphere}, {"transform", a.costs.transform},
-                     {"triangle", {a.costs.tri_stage[0], a.costs.tri_stage[1], a.costs.tri_stage[2], a.costs.tri_stage[3]}},
+          {"costs", {{"sphere", a.costs.sphere}, {"transform", a.costs.moller.transform},
+                     {"triangle", stage_costs_json(a.costs.moller)},
+                     {"watertight", {{"transform", a.costs.watertight.transform},
+                                     {"triangle", stage_costs_json(a.costs.watertight)}}},
                      {"box", a.costs.box}, {"box_setup", a.costs.box_setup}}},
           {"ray_fifo_depth", a.fifo_depth},
           {"bus", {{"model", to_string(a.bus.model)}, {"bytes_per_cycle", a.bus.bytes_per_cycle},
@@ -127,7 +143,7 @@ nlohmann::json to_json(const Arch& a) {
           {"subdivide", a.subdivide},
           {"split_rule", a.split_rule},
           {"accel", a.accel},
-          {"kernel", a.kernel},
+          {"kernel", to_string(a.kernel)},
           {"precision", a.precision}};
 }
 

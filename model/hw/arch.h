@@ -46,10 +46,12 @@ struct Arch {
   int subdivide = 1;
   std::string split_rule = "balanced";  // how --subdivide splits an object (balance/subdivide.cpp)
   std::string accel = "brute";
-  std::string kernel = "moller";
+  Kernel kernel = Kernel::moller;
   std::string precision = "float";
 
   double cycle_ns() const { return 1000.0 / clock_mhz; }
+  // The costs of the kernel this run uses.
+  const KernelCosts& kernel_costs() const { return costs.of(kernel); }
 };
 
 // Throws InputError (file, JSON path, problem) on any unknown key or impossible value.

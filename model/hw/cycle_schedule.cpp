@@ -152,6 +152,69 @@ const OpGraph& moller_graph() {
   return g;
 }
 
+// The transform as the watertight kernel needs it: the same 18 multiplies and 15 adds, d'
+// first, then the choice of the ray's dominant axis kz = argmax |d'| (two comparisons on the
+// adder, absolute values are free), which the triangle test uses to permute coordinates
+// (routing, free). The adder has slack while the multiplier works on o', so the choice
+// costs no cycle: 19, as Table 1.
+const OpGraph& transform_watertight_graph() {
+  static const OpGraph g = [] {
+    OpGraph t{"ray transform into the local frame, with the dominant axis (watertight)", {"done"}, {}};
+    for (const char* r : {"x", "y", "z"}) {
+      const std::string d = std::string("d'") + r;
+      t.ops.push_back(mul(d + "0"));
+      t.ops.push_back(mul(d + "1"));
+      t.ops.push_back(mul(d + "2"));
+      t.ops.push_back(add(d + "01", {d + "0", d + "1"}));
+      t.ops.push_back(add(d, {d + "01", d + "2"}));
+    }
+    t.ops.push_back(add("|d'x|-|d'y|", {"d'x", "d'y"}));
+    t.ops.push_back(add("max-|d'z|", {"|d'x|-|d'y|", "d'z"}, 0));
+    for (const char* r : {"x", "y", "z"}) {
+      const std::string o = std::string("o'") + r;
+      t.ops.push_back(mul(o + "0"));
+      t.ops.push_back(mul(o + "1"));
+      t.ops.push_back(mul(o + "2"));
+      t.ops.push_back(add(o + "01", {o + "0", o + "1"}));
+      t.ops.push_back(add(o + "012", {o + "01", o + "2"}));
+      t.ops.push_back(add(o, {o + "012"}, 0));
+    }
+    return t;
+  }();
+  return g;
+}
+
+// Watertight (Woop, Benthin, Wald, JCGT 2013; geom/watertight.h), without a divider: in
+// coordinates permuted so that z is the ray's dominant axis, each vertex is translated to
+// the ray origin (A = v0 - o, B = v1 - o, C = v2 - o) and sheared along the ray by
+// x' = dz x - dx z, y' = dz y - dy z (the JCGT shear multiplied through by dz). Then
+//   U = b'x c'y - b'y c'x, V = c'x a'y - c'y a'x, W = a'x b'y - a'y b'x
+// exit 'uv' if U and V have strictly opposite signs (sign flags: free), exit 'w' if W
+// disagrees with them, exit 'det' if det = U + V + W is zero (its flag; with the signs
+// agreeing, only when all three are zero: a degenerate triangle, or a ray in its plane).
+// Then T = U Az + V Bz + W Cz and D = dz det, so that
+// t = T / D; the last stage is the same datapath as Moller's: T < tmax D and
+// T D_best < T_best D (the nearest so far, kept as a fraction). Exit 'done'.
+const OpGraph& watertight_graph() {
+  static const OpGraph g{"triangle test (watertight, division-free shear)", {"uv", "w", "det", "done"}, {
+      add("Bx"), add("Bz"), add("By"), add("Cx"), add("Cz"), add("Cy"), add("Ax"), add("Az"), add("Ay"),
+      mul("dz*Bx", {"Bx"}), mul("dx*Bz", {"Bz"}), mul("dz*By", {"By"}), mul("dy*Bz", {"Bz"}),
+      add("b'x", {"dz*Bx", "dx*Bz"}), add("b'y", {"dz*By", "dy*Bz"}),
+      mul("dz*Cx", {"Cx"}), mul("dx*Cz", {"Cz"}), mul("dz*Cy", {"Cy"}), mul("dy*Cz", {"Cz"}),
+      add("c'x", {"dz*Cx", "dx*Cz"}), add("c'y", {"dz*Cy", "dy*Cz"}),
+      mul("b'x*c'y", {"b'x", "c'y"}), mul("b'y*c'x", {"b'y", "c'x"}), add("U", {"b'x*c'y", "b'y*c'x"}),
+      mul("dz*Ax", {"Ax"}), mul("dx*Az", {"Az"}), mul("dz*Ay", {"Ay"}), mul("dy*Az", {"Az"}),
+      add("a'x", {"dz*Ax", "dx*Az"}), add("a'y", {"dz*Ay", "dy*Az"}),
+      mul("c'x*a'y", {"c'x", "a'y"}), mul("c'y*a'x", {"c'y", "a'x"}), add("V", {"c'x*a'y", "c'y*a'x"}, 0),
+      mul("a'x*b'y", {"a'x", "b'y"}), mul("a'y*b'x", {"a'y", "b'x"}), add("W", {"a'x*b'y", "a'y*b'x"}, 1),
+      add("det'", {"U", "V"}), add("det", {"det'", "W"}, 2),
+      mul("U*Az", {"U"}), mul("V*Bz", {"V"}), mul("W*Cz", {"W"}),
+      add("T'", {"U*Az", "V*Bz"}), add("T", {"T'", "W*Cz"}),
+      mul("D=dz*det", {"det"}), mul("tmax*D", {"D=dz*det"}), mul("Tbest*D", {"D=dz*det"}), mul("T*Dbest", {"T"}),
+      add("tmax*D-T", {"T", "tmax*D"}, 3), add("nearest?", {"T*Dbest", "Tbest*D"}, 3)}};
+  return g;
+}
+
 // The BVH's box set-up, once per entered sphere after the transform: the local ray's
 // reciprocal direction 1/d (geom/bvh.h box_ray). The unit has no divider: Newton-Raphson,
 // r' = r (2 - d r), from a seed read from a small ROM indexed by d's leading mantissa bits

@@ -48,6 +48,8 @@ const OpGraph& sphere_textbook_graph();  // the paper's form
 const OpGraph& sphere_stable_graph();    // the form the model runs (geom/sphere.h)
 const OpGraph& transform_graph();        // ray into the local frame (geom/affine.h)
 const OpGraph& moller_graph();           // geom/triangle.h, exit stages det, u, v, t
+const OpGraph& transform_watertight_graph();  // the transform plus the ray's dominant axis
+const OpGraph& watertight_graph();       // geom/watertight.h, exit stages uv, w, det, t
 const OpGraph& box_setup_graph();        // --accel bvh: reciprocal direction (geom/bvh.h)
 const OpGraph& box_graph();              // --accel bvh: ray-box test (geom/bvh.h)
 

@@ -33,7 +33,8 @@ struct Bytes {
   static constexpr unsigned nearest_answer = 12 + 8 + 3 * sizeof(T);   // ray, unit, flags; object, prim; t, u, v
   static constexpr unsigned shadow_answer = 12;                        // ray, unit, occluded
   static constexpr unsigned sphere_config = 4 + 16 * sizeof(T);        // id, centre, radius, 3x4 matrix
-  static constexpr unsigned triangle = 12 * sizeof(T);                 // v0, e1, e2, n
+  // per triangle, in the kernel's format: Moller v0, e1, e2, n; watertight v0, v1, v2
+  static constexpr unsigned triangle(Kernel k) { return triangle_bytes<T>(k); }
   static constexpr unsigned node = BvhNode<T>::kBytes;                 // box, offset, count, axis
 };
 

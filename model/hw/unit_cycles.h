@@ -31,7 +31,7 @@ struct UnitCycles {
   }
 };
 
-inline std::uint64_t primitive_cycles(const WorkCounts& w, const CycleCosts& c) {
+inline std::uint64_t primitive_cycles(const WorkCounts& w, const KernelCosts& c) {
   std::uint64_t n = 0;
   for (int k = 0; k < kTriStages; ++k) n += w.tri_stage[k] * c.tri_stage[k];
   return n;
@@ -46,18 +46,19 @@ inline std::uint64_t box_cycles(const WorkCounts& w, const CycleCosts& c) {
 template <typename T>
 inline UnitCycles visit_cycles(const SphereVisit& v, const Arch& a) {
   UnitCycles c;
+  const KernelCosts& k = a.kernel_costs();
   c.sphere = v.work.sphere_tests * a.costs.sphere;
-  c.transform = v.work.transforms * a.costs.transform;
-  c.primitive = primitive_cycles(v.work, a.costs);
+  c.transform = v.work.transforms * k.transform;
+  c.primitive = primitive_cycles(v.work, k);
   c.box = box_cycles(v.work, a.costs);
   if (a.memory.model == MemoryModel::latency && v.work.transforms && v.stages) {
     StreamCosts s;
     s.latency = static_cast<std::uint32_t>(a.memory.latency_cycles);
     s.bytes_per_cycle = static_cast<std::uint32_t>(a.memory.bytes_per_cycle);
-    s.triangle_bytes = Bytes<T>::triangle;
+    s.triangle_bytes = Bytes<T>::triangle(a.kernel);
     s.node_bytes = Bytes<T>::node;
-    s.lead = a.costs.transform + (v.work.box_setups ? a.costs.box_setup : 0);
-    s.triangle = a.costs.tri_stage;
+    s.lead = k.transform + (v.work.box_setups ? a.costs.box_setup : 0);
+    s.triangle = k.tri_stage;
     s.box = a.costs.box;
     c.stall = stream_stall(s, v.stages, static_cast<std::uint32_t>(v.work.tri_tests() + v.work.box_tests));
   }
@@ -70,16 +71,17 @@ template <typename T>
 inline UnitCycles charge_visit(const SphereVisit& v, const Arch& a, std::vector<WorkCounts>& per_sphere,
                                std::uint64_t& memory_bytes) {
   per_sphere[v.sphere] += v.work;
-  memory_bytes += v.work.tri_tests() * Bytes<T>::triangle + v.work.box_tests * Bytes<T>::node;
+  memory_bytes += v.work.tri_tests() * Bytes<T>::triangle(a.kernel) + v.work.box_tests * Bytes<T>::node;
   return visit_cycles<T>(v, a);
 }
 
 // Cycles of a whole work table (no stalls): what the functional counts predict.
-inline UnitCycles work_cycles(const WorkCounts& w, const CycleCosts& c) {
+inline UnitCycles work_cycles(const WorkCounts& w, const CycleCosts& c, Kernel kernel) {
+  const KernelCosts& k = c.of(kernel);
   UnitCycles u;
   u.sphere = w.sphere_tests * c.sphere;
-  u.transform = w.transforms * c.transform;
-  u.primitive = primitive_cycles(w, c);
+  u.transform = w.transforms * k.transform;
+  u.primitive = primitive_cycles(w, k);
   u.box = box_cycles(w, c);
   return u;
 }

@@ -6,6 +6,13 @@
 
 namespace oprt {
 
+namespace {
+template <typename T>
+const char* precision_name() {
+  return sizeof(T) == 4 ? "float precision" : "double precision";
+}
+}  // namespace
+
 std::vector<Affine<double>> object_matrices(const Scene& scene, int frame) {
   std::vector<Affine<double>> m;
   m.reserve(scene.objects.size());
@@ -23,6 +30,7 @@ FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int fra
                           const std::vector<Affine<double>>& to_world, const Camera& camera) {
   FrameSetup<T> f;
   f.frame = frame;
+  f.kernel = g.kernel();
   f.camera = camera;
   f.placement.reserve(scene.objects.size());
   f.to_local.reserve(scene.objects.size());
@@ -35,6 +43,10 @@ FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int fra
                        why_not_invertible(m));
     f.placement.push_back(*p);
     f.to_local.push_back(p->to_local.cast<T>());
+    if (!f.to_local.back().finite())
+      throw InputError(scene.source, "object " + std::to_string(o) + " (\"" + scene.objects[o].name +
+                                         "\") at frame " + std::to_string(frame),
+                       std::string("the inverse of the matrix is beyond the range of ") + precision_name<T>());
   }
   // World spheres. The radius is scaled by the matrix's largest stretch (exact for rotation
   // and uniform scale, conservative for non-uniform scale and shear), then widened by a
@@ -63,6 +75,9 @@ FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int fra
     T rt = static_cast<T>(r);
     if (static_cast<double>(rt) < r) rt = std::nextafter(rt, kInf<T>);
     f.world_sphere[s].r = rt;
+    if (!all_finite(f.world_sphere[s].c) || !std::isfinite(rt))
+      throw InputError(scene.source, "object " + std::to_string(g.object[s]) + " at frame " + std::to_string(frame),
+                       std::string("its bounding sphere in world space is beyond the range of ") + precision_name<T>());
   }
   return f;
 }

@@ -11,6 +11,7 @@ namespace oprt {
 template <typename T>
 struct FrameSetup {
   int frame = 0;
+  Kernel kernel = Kernel::moller;       // the units' triangle kernel (shadow-ray offsets)
   Camera camera;
   std::vector<Placement> placement;     // per object, double (the GPP's own copy)
   std::vector<Affine<T>> to_local;      // per object, as the IU registers hold it
@@ -18,7 +19,8 @@ struct FrameSetup {
   std::vector<char> visible;            // per sphere: its object takes part in this frame
 };
 
-// Throws InputError if an object's matrix at this frame is not invertible.
+// Throws InputError if an object's matrix at this frame is not invertible, or if what the
+// units would hold (the world -> local matrix, the world spheres) does not fit precision T.
 template <typename T>
 FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int frame);
 // The same from matrices and camera already evaluated (what the GPP receives from the host).

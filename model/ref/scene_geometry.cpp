@@ -1,6 +1,7 @@
 #include "ref/scene_geometry.h"
 
 #include "geom/bounding_sphere.h"
+#include "scene/error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,11 +27,17 @@ Sphere<T> enclosing(const Sphere<double>& minimal, const std::vector<Vec3d>& sto
   return s;
 }
 
+// A triangle whose data is finite in double but not in T (a coordinate, an edge or the
+// normal beyond float's range) would put infinities into the kernels: refuse it.
 template <typename T>
-void write_triangle(MollerSoA<T>& soa, std::size_t i, const MollerTriangle<T>& t) {
-  const Vec3<T>* v[4] = {&t.v0, &t.e1, &t.e2, &t.n};
-  for (int k = 0; k < 4; ++k)
-    for (int j = 0; j < 3; ++j) soa.c[3 * k + j][i] = (*v[k])[j];
+void check_fits(const Scene& scene, std::uint32_t object, std::uint32_t prim, const TriangleStore<T>& tris,
+                std::size_t i) {
+  if (tris.finite(i)) return;
+  throw InputError(scene.source,
+                   "object " + std::to_string(object) + " (\"" + scene.objects[object].name + "\") triangle " +
+                       std::to_string(prim),
+                   std::string("vertex coordinates, edges or normal beyond the range of ") +
+                       (sizeof(T) == 4 ? "float" : "double") + " precision");
 }
 
 // How far a sphere's node boxes reach beyond its triangles' exact bounds. The box test is
@@ -84,11 +91,11 @@ void build_sphere_bvh(SceneGeometry<T>& g, std::uint32_t s, const Mesh& mesh, do
   const std::uint32_t first = g.first[s], end = g.first[s + 1];
   const BvhBuild tree = build_bvh(triangle_bounds(g, mesh, mesh.vertices, first, end, magnitude));
   const std::vector<std::uint32_t> prim(g.prim.begin() + first, g.prim.begin() + end);
-  std::vector<MollerTriangle<T>> tri;
-  for (std::uint32_t k = first; k < end; ++k) tri.push_back(g.tris[k]);
-  for (std::uint32_t k = 0; k < tree.order.size(); ++k) {
-    g.prim[first + k] = prim[tree.order[k]];
-    write_triangle(g.tris, first + k, tri[tree.order[k]]);
+  for (std::uint32_t k = 0; k < tree.order.size(); ++k) {  // rewrite in leaf order, in the kernel's format
+    const std::uint32_t p = prim[tree.order[k]];
+    const Tri& t = mesh.triangles[p];
+    g.prim[first + k] = p;
+    g.tris.write(first + k, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
   }
   g.first_node[s + 1] = g.first_node[s] + static_cast<std::uint32_t>(tree.nodes.size());
   g.nodes.resize(g.first_node[s + 1]);
@@ -135,7 +142,8 @@ std::uint64_t update_deforming(SceneGeometry<T>& g, const Scene& scene, int fram
     std::vector<Vec3d> points;
     for (std::uint32_t k = g.first[s]; k < g.first[s + 1]; ++k) {
       const Tri& t = obj.mesh.triangles[g.prim[k]];
-      write_triangle(g.tris, k, prepare_moller<T>(verts[t[0]], verts[t[1]], verts[t[2]]));
+      g.tris.write(k, verts[t[0]], verts[t[1]], verts[t[2]]);
+      check_fits(scene, g.object[s], g.prim[k], g.tris, k);
       for (std::uint32_t v : t) {
         points.push_back(verts[v]);
         stored.push_back(Vec3d(Vec3<T>(verts[v])));
@@ -149,8 +157,9 @@ std::uint64_t update_deforming(SceneGeometry<T>& g, const Scene& scene, int fram
 }
 
 template <typename T>
-SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs, Accel accel) {
+SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs, Kernel kernel, Accel accel) {
   SceneGeometry<T> g;
+  g.tris = TriangleStore<T>(kernel);
   std::size_t total = 0;
   for (const SphereDef& d : defs) total += d.prims.size();
   g.tris.reserve(total);
@@ -169,7 +178,8 @@ SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs,
     for (std::uint32_t p : d.prims) {
       const Tri& t = m.triangles[p];
       const Vec3d a = m.vertices[t[0]], b = m.vertices[t[1]], c = m.vertices[t[2]];
-      g.tris.push_back(prepare_moller<T>(a, b, c));
+      g.tris.push_back(a, b, c);
+      check_fits(scene, d.object, p, g.tris, g.tris.size() - 1);
       g.prim.push_back(p);
       for (const Vec3d& v : {a, b, c}) {
         const Vec3d vt = Vec3d(Vec3<T>(v)) - d.local.c;
@@ -196,8 +206,8 @@ SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs,
   return g;
 }
 
-template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>, Accel);
-template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>, Accel);
+template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>, Kernel, Accel);
+template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>, Kernel, Accel);
 template std::uint64_t update_deforming(SceneGeometry<float>&, const Scene&, int);
 template std::uint64_t update_deforming(SceneGeometry<double>&, const Scene&, int);
 

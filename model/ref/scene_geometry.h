@@ -28,7 +28,7 @@ struct SceneGeometry {
   std::vector<Sphere<T>> local_sphere;   // per sphere, enclosing its T-rounded triangles
   std::vector<std::uint32_t> object;     // per sphere: its object
   std::vector<std::uint32_t> first;      // per sphere: first triangle in `tris`; size + 1
-  MollerSoA<T> tris;                     // grouped by sphere: each sphere's in prim order
+  TriangleStore<T> tris;                 // grouped by sphere: each sphere's in prim order
                                          // (brute) or in its BVH's leaf order (bvh)
   std::vector<std::uint32_t> prim;       // per stored triangle: index in the object's mesh
   std::vector<char> deforming;           // per sphere: its object's vertices move (BART tpa)
@@ -41,17 +41,25 @@ struct SceneGeometry {
   std::uint32_t triangles_in(std::uint32_t s) const { return first[s + 1] - first[s]; }
   bool has_bvh() const { return !first_node.empty(); }
   std::uint32_t nodes_in(std::uint32_t s) const { return has_bvh() ? first_node[s + 1] - first_node[s] : 0; }
+  Kernel kernel() const { return tris.kernel; }
   // Bytes one triangle and one node occupy in object memory (the memory model charges
   // transfers), and what a sphere's geometry occupies.
-  static constexpr std::uint32_t kTriangleBytes = 12 * sizeof(T);
+  std::uint32_t triangle_bytes() const { return tris.bytes_per_triangle(); }
   static constexpr std::uint32_t kNodeBytes = BvhNode<T>::kBytes;
   std::uint64_t memory_bytes(std::uint32_t s) const {
-    return std::uint64_t{triangles_in(s)} * kTriangleBytes + std::uint64_t{nodes_in(s)} * kNodeBytes;
+    return std::uint64_t{triangles_in(s)} * triangle_bytes() + std::uint64_t{nodes_in(s)} * kNodeBytes;
   }
 };
 
+// Throws InputError if a vertex does not fit precision T (a coordinate beyond float's range
+// would become infinite).
 template <typename T>
-SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs, Accel accel = Accel::brute);
+SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs, Kernel kernel = Kernel::moller,
+                                Accel accel = Accel::brute);
+template <typename T>
+SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs, Accel accel) {
+  return build_geometry<T>(scene, std::move(defs), Kernel::moller, accel);
+}
 
 // For scenes with non-rigid objects: rewrite the deforming spheres' triangles and local
 // spheres for frame f (the clusters, fixed at frame 0, keep their triangles). Between
@@ -61,8 +69,8 @@ template <typename T>
 std::uint64_t update_deforming(SceneGeometry<T>& g, const Scene& scene, int frame);
 bool has_deforming(const Scene& scene);
 
-extern template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>, Accel);
-extern template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>, Accel);
+extern template SceneGeometry<float> build_geometry(const Scene&, std::vector<SphereDef>, Kernel, Accel);
+extern template SceneGeometry<double> build_geometry(const Scene&, std::vector<SphereDef>, Kernel, Accel);
 extern template std::uint64_t update_deforming(SceneGeometry<float>&, const Scene&, int);
 extern template std::uint64_t update_deforming(SceneGeometry<double>&, const Scene&, int);
 

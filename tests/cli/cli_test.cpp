@@ -119,6 +119,61 @@ TEST_CASE("cli: analytic equals at exactly under the ideal architecture", "[cli]
   CHECK(r.status == 2);
 }
 
+TEST_CASE("cli: render --kernel watertight equals reference --kernel watertight - cycles are work x its costs",
+          "[cli][watertight]") {
+  const fs::path d = temp_dir("watertight");
+  const std::string frame = " --frames 0 --resolution 24x24";
+  REQUIRE(run_oprt("reference " + scene("paper_polygons.json") + frame + " --kernel watertight --out " +
+                   (d / "ref").string()).status == 0);
+  // at with the default costs; analytic with costs from an architecture file, and object
+  // memory with a latency (so that bytes are streamed and counted).
+  std::ofstream(d / "arch.json") << R"({"format": "oprt-arch/1", "kernel": "watertight",
+      "costs": {"transform": 99, "triangle": [99, 99, 99, 99], "watertight": {"transform": 7, "triangle": [2, 3, 5, 11]}},
+      "memory": {"model": "latency", "latency_cycles": 10, "bytes_per_cycle": 16}})";
+  const std::string render = "render " + scene("paper_polygons.json") + frame + " --ius 5 --no-progress";
+  REQUIRE(run_oprt(render + " --kernel watertight --level at --out " + (d / "at").string()).status == 0);
+  REQUIRE(run_oprt(render + " --arch " + (d / "arch.json").string() + " --level analytic --out " +
+                   (d / "an").string()).status == 0);
+  REQUIRE(run_oprt(render + " --kernel watertight --level lt --quantum 10us --out " + (d / "lt").string()).status == 0);
+  const auto ref = oprt::read_exr((d / "ref" / "frame_0000.exr").string());
+  CHECK(oprt::read_exr((d / "at" / "frame_0000.exr").string()) == ref);
+  CHECK(oprt::read_exr((d / "lt" / "frame_0000.exr").string()) == ref);
+  CHECK(oprt::read_exr((d / "an" / "frame_0000.exr").string()) == ref);
+  for (int u = 0; u < 5; ++u)
+    for (const char* c : {"sphere", "transform", "primitive"})
+      CHECK(stats(d / "at")["frames"][0]["ius"][u]["cycles"][c] == stats(d / "lt")["frames"][0]["ius"][u]["cycles"][c]);
+  std::ifstream in(d / "ref" / "reference.json");
+  const auto refj = nlohmann::json::parse(in);
+  CHECK(refj["kernel"] == "watertight");
+  CHECK(refj["triangle_exit_stages"] == nlohmann::json::array({"uv", "w", "det", "t"}));
+  struct Costs {
+    std::uint64_t transform, stage[4];
+  };
+  for (const auto& [dir, c] : {std::pair<const char*, Costs>{"at", {20, {18, 20, 21, 27}}},
+                               std::pair<const char*, Costs>{"an", {7, {2, 3, 5, 11}}}}) {
+    INFO(dir);
+    const auto st = stats(d / dir);
+    CHECK(st["arch"]["kernel"] == "watertight");
+    std::uint64_t primary_tests = 0;
+    for (const auto& u : st["frames"][0]["ius"]) {
+      std::uint64_t transforms = 0, primitive = 0, spheres = 0, tests = 0;
+      for (const char* kind : {"primary", "shadow"}) {
+        const auto& w = u["work"][kind];
+        transforms += w["transforms"].get<std::uint64_t>();
+        spheres += w["sphere_tests"].get<std::uint64_t>();
+        tests += w["triangle_tests"].get<std::uint64_t>();
+        for (int k = 0; k < 4; ++k) primitive += c.stage[k] * w["triangle_exit_stage"][k].get<std::uint64_t>();
+      }
+      primary_tests += u["work"]["primary"]["triangle_tests"].get<std::uint64_t>();
+      CHECK(u["cycles"]["sphere"].get<std::uint64_t>() == 9 * spheres);
+      CHECK(u["cycles"]["transform"].get<std::uint64_t>() == c.transform * transforms);
+      CHECK(u["cycles"]["primitive"].get<std::uint64_t>() == primitive);
+      if (std::string(dir) == "an") CHECK(u["memory_bytes_read"].get<std::uint64_t>() == 36 * tests);  // v0, v1, v2
+    }
+    CHECK(primary_tests == refj["frames"][0]["work"]["primary"]["triangle_tests"].get<std::uint64_t>());
+  }
+}
+
 TEST_CASE("cli: stats name the fields scripts rely on", "[cli]") {
   const fs::path d = temp_dir("stats");
   REQUIRE(run_oprt("render " + scene("paper_polygons.json") + " --frames 0 --resolution 16x16 --ius 4 --out " +

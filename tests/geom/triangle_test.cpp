@@ -76,11 +76,11 @@ TEMPLATE_TEST_CASE("moller: rays with zero direction components", "[triangle]", 
 
 TEMPLATE_TEST_CASE("block kernels: nearest and any over a small soup", "[triangle]", float, double) {
   using T = TestType;
-  MollerSoA<T> soa;
-  soa.push_back(prepare_moller<T>({0, 0, 7}, {1, 0, 7}, {0, 1, 7}));    // 0: t = 7
-  soa.push_back(prepare_moller<T>({5, 5, 1}, {6, 5, 1}, {5, 6, 1}));    // 1: missed (u)
-  soa.push_back(prepare_moller<T>({0, 0, 3}, {1, 0, 3}, {0, 1, 3}));    // 2: t = 3, nearest
-  soa.push_back(prepare_moller<T>({0, 0, 3}, {1, 0, 3}, {0, 1, 3}));    // 3: t = 3 again: tie
+  TriangleStore<T> soa(Kernel::moller);
+  soa.push_back({0, 0, 7}, {1, 0, 7}, {0, 1, 7});    // 0: t = 7
+  soa.push_back({5, 5, 1}, {6, 5, 1}, {5, 6, 1});    // 1: missed (u)
+  soa.push_back({0, 0, 3}, {1, 0, 3}, {0, 1, 3});    // 2: t = 3, nearest
+  soa.push_back({0, 0, 3}, {1, 0, 3}, {0, 1, 3});    // 3: t = 3 again: tie
   std::uint64_t stages[kTriStages] = {}, hits = 0;
   const auto ray = down_z<T>(0.25, 0.25);
   const BlockHit<T> b = nearest_in_block(soa, 0, 4, ray, stages, &hits);

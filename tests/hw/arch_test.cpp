@@ -25,7 +25,7 @@ TEST_CASE("arch: defaults are the paper's ideal assumptions", "[arch]") {
   const Arch a = parse(R"({"format": "oprt-arch/1"})");
   CHECK(a.ius == 32);
   CHECK(a.costs.sphere == 9);
-  CHECK(a.costs.transform == 19);
+  CHECK(a.costs.moller.transform == 19);
   CHECK(a.fifo_depth == 0);
   CHECK(a.bus.model == BusModel::ideal);
   CHECK(a.memory.model == MemoryModel::ideal);
@@ -35,14 +35,20 @@ TEST_CASE("arch: defaults are the paper's ideal assumptions", "[arch]") {
 
 TEST_CASE("arch: every field is read", "[arch]") {
   const Arch a = parse(R"({"format": "oprt-arch/1", "clock_mhz": 200, "ius": 8,
-    "costs": {"sphere": 13, "transform": 20, "triangle": [5, 15, 18, 23]}, "ray_fifo_depth": 4,
+    "costs": {"sphere": 13, "transform": 20, "triangle": [5, 15, 18, 23],
+              "watertight": {"transform": 22, "triangle": [17, 19, 20, 26]}}, "ray_fifo_depth": 4,
     "bus": {"model": "shared", "bytes_per_cycle": 16, "arbitration_cycles": 2},
     "memory": {"model": "latency", "latency_cycles": 7, "bytes_per_cycle": 32},
     "gpp": {"cycles_per_ray": 3, "cycles_per_hit": 40}, "level": "lt", "quantum": "250 ns",
-    "balance": "sa_n", "subdivide": 8, "precision": "double"})");
+    "balance": "sa_n", "subdivide": 8, "kernel": "watertight", "precision": "double"})");
   CHECK(a.cycle_ns() == 5);
   CHECK(a.ius == 8);
-  CHECK(a.costs.tri_stage[3] == 23);
+  CHECK(a.costs.moller.transform == 20);
+  CHECK(a.costs.moller.tri_stage[3] == 23);
+  CHECK(a.costs.watertight.transform == 22);
+  CHECK(a.costs.watertight.tri_stage[0] == 17);
+  CHECK(a.kernel == Kernel::watertight);
+  CHECK(a.kernel_costs().tri_stage[3] == 26);  // the run charges the kernel it uses
   CHECK(a.fifo_depth == 4);
   CHECK(a.bus.bytes_per_cycle == 16);
   CHECK(a.bus.arbitration_cycles == 2);
@@ -63,6 +69,11 @@ TEST_CASE("arch: every field is read", "[arch]") {
 TEST_CASE("arch: bad files fail with the place and the problem", "[arch]") {
   expect_error(R"({"format": "oprt-arch/1", "ius": 0})", "/ius", "out of range");
   expect_error(R"({"format": "oprt-arch/1", "costs": {"sphere": -1}})", "/costs/sphere", "out of range");
+  expect_error(R"({"format": "oprt-arch/1", "costs": {"watertight": {"triangle": [1, 2]}}})",
+               "/costs/watertight/triangle", "expected 4 cycle counts (exit stages uv, w, det, t), found 2");
+  expect_error(R"({"format": "oprt-arch/1", "costs": {"watertight": {"sphere": 3}}})", "/costs/watertight",
+               "sphere");
+  expect_error(R"({"format": "oprt-arch/1", "kernel": "plucker"})", "/kernel", "unknown value");
   expect_error(R"({"format": "oprt-arch/1", "costs": {"triangle": [4, 22]}})", "/costs/triangle", "expected 4");
   expect_error(R"({"format": "oprt-arch/1", "costs": {"box": -3}})", "/costs/box", "out of range");
   expect_error(R"({"format": "oprt-arch/1", "costs": {"node": 3}})", "/costs/node", "unknown key");

@@ -37,7 +37,7 @@ std::vector<hw::UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<
         for (std::size_t u = 0; u < a.units(); ++u) trace_any(g, regs[u], s, [&](const SphereVisit& v) { work[u] += v.work; });
     }
   std::vector<hw::UnitCycles> out;
-  for (const WorkCounts& wk : work) out.push_back(hw::work_cycles(wk, costs));
+  for (const WorkCounts& wk : work) out.push_back(hw::work_cycles(wk, costs, g.kernel()));
   return out;
 }
 
@@ -175,7 +175,7 @@ void check_contended(const std::string& accel) {
   for (const auto& u : fb.units) {
     WorkCounts w = u.work[0];
     w += u.work[1];
-    CHECK(u.memory_bytes == w.tri_tests() * hw::Bytes<float>::triangle + w.box_tests * hw::Bytes<float>::node);
+    CHECK(u.memory_bytes == w.tri_tests() * hw::Bytes<float>::triangle(Kernel::moller) + w.box_tests * hw::Bytes<float>::node);
   }
 }
 }  // namespace
@@ -186,4 +186,42 @@ TEST_CASE("fifo depth 1 with a shared bus and memory latency completes with the 
 
 TEST_CASE("contention with --accel bvh keeps the image and the busy cycles while node fetches stall", "[engine][contention][bvh]") {
   check_contended("bvh");
+}
+
+TEST_CASE("watertight kernel: render equals reference bit for bit, busy cycles are its work times its costs",
+          "[engine][watertight]") {
+  const Scene scene = load_scene(test::scene_path("paper_polygons.json"));
+  Arch arch;
+  arch.kernel = Kernel::watertight;
+  arch.ius = 6;
+  arch.balance = "round_robin";
+  const int n = 24;
+  test::Run run = test::simulate_scene<float>(scene, arch, {0, 0}, n, n);
+  const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres, Kernel::watertight);
+  const FrameResult ref = render_reference(scene, g, 0, n, n);
+  CHECK(run.job.images.at(0) == ref.image);
+  std::size_t hits = 0;
+  for (auto o : ref.image.object) hits += o != 0xFFFFFFFFu;
+  CHECK(hits > ref.image.size() / 4);
+  // Busy cycles: the replayed work of each unit times the watertight costs (transform 20,
+  // exit stages uv 18, w 20, det 21, t 27: the schedules'), not Moller's.
+  const auto expect = replay_busy(scene, g, run.job.assignment, arch.costs, 0, n, n);
+  const FrameStats& fs = run.job.results.at(0);
+  REQUIRE(fs.units.size() == 6);
+  WorkCounts all;
+  for (std::size_t u = 0; u < fs.units.size(); ++u) {
+    INFO("unit " << u);
+    CHECK(fs.units[u].cycles.sphere == expect[u].sphere);
+    CHECK(fs.units[u].cycles.transform == expect[u].transform);
+    CHECK(fs.units[u].cycles.primitive == expect[u].primitive);
+    WorkCounts w = fs.units[u].work[0];
+    w += fs.units[u].work[1];
+    CHECK(fs.units[u].cycles.transform == 20 * w.transforms);
+    CHECK(fs.units[u].cycles.primitive ==
+          18 * w.tri_stage[0] + 20 * w.tri_stage[1] + 21 * w.tri_stage[2] + 27 * w.tri_stage[3]);
+    all += fs.units[u].work[0];
+  }
+  CHECK(all == ref.work.total(RayKind::primary));  // primary work does not depend on the partition
+  CHECK(all.tri_stage[int(WtStage::t)] > 0);
+  CHECK(all.tri_stage[int(WtStage::uv)] > all.tri_stage[int(WtStage::t)]);  // most tests exit early
 }

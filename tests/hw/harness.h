@@ -32,7 +32,7 @@ Run simulate_scene(const Scene& scene, const Arch& arch, FrameRange frames, int 
   r.job.write_files = false;
   r.job.keep_results = true;
   r.job.assignment = static_assignment(arch.balance, scene, r.spheres, units_for(r.spheres.size(), arch.ius));
-  SceneGeometry<T> g = build_geometry<T>(scene, r.spheres, accel_named(arch.accel));
+  SceneGeometry<T> g = build_geometry<T>(scene, r.spheres, arch.kernel, accel_named(arch.accel));
   simulate<T>(r.job, g);
   return r;
 }

@@ -1,0 +1,58 @@
+// The named hard cases of numerical robustness (issue 6), each run per kernel and
+// precision through the code the engine runs: meshes placed by an object transform, world
+// spheres and world -> local matrices from the frame set-up, rays carried into the local
+// frame in T, and every triangle tested through the block functions (the one dispatch
+// point). Outcomes are counts, judged against double-precision oracles that never call
+// the kernels. tests/numerics asserts on them; scripts/numerics_report prints them.
+#pragma once
+
+#include "geom/kernel.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace oprt::numerics {
+
+struct Outcome {
+  std::uint64_t trials = 0;         // rays (or items) the oracle could judge
+  std::uint64_t leaks = 0;          // a crossing of a closed mesh with no hit (entry or exit)
+  std::uint64_t double_hits = 0;    // hits beyond one at one crossing
+  std::uint64_t sphere_misses = 0;  // a bounding sphere rejected for a ray that enters it
+  std::uint64_t self_hits = 0;      // shadow rays occluded by the convex surface they leave
+  std::uint64_t wrong = 0;          // other wrong answers (see each case)
+
+  Outcome& operator+=(const Outcome& o);
+};
+
+struct HardCase {
+  std::string name;
+  std::string what;  // what is aimed at, and what `wrong` counts
+  // Rays aimed at shared edges and vertices may legitimately hit two triangles where
+  // the mesh is only nearly planar (grazing rays): double hits are then not asserted.
+  bool double_hits_asserted = true;
+  Outcome (*run_float)(Kernel);
+  Outcome (*run_double)(Kernel);
+  Outcome run(Kernel k, bool dbl) const { return dbl ? run_double(k) : run_float(k); }
+};
+
+const std::vector<HardCase>& hard_cases();
+const HardCase& hard_case(const std::string& name);  // throws std::out_of_range
+
+// The "tiny spheres far away" case run with the paper's textbook sphere test, which the
+// model does not use: its misses show why.
+Outcome textbook_sphere_case(bool dbl);
+// The image-level check: a closed mesh (a UV sphere, then a subdivided box) placed 1e5
+// from the origin, by its object transform or (in_coordinates) in its own vertex
+// coordinates, rendered by the reference renderer at size x size; the pixels whose
+// double-precision camera ray passes clearly inside it, how many of those show the
+// background, and how many show the mesh's far side (the ray leaked through its front).
+struct ImageCheck {
+  std::uint64_t inside_pixels = 0, background_inside = 0, see_through = 0;
+};
+ImageCheck image_check(Kernel k, bool dbl, bool in_coordinates, int size);
+
+// The "shadow rays" case with origins at the hit points themselves, no offset.
+Outcome shadow_case_without_offset(Kernel k, bool dbl);
+
+}  // namespace oprt::numerics
