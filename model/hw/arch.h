@@ -15,6 +15,9 @@
 namespace oprt {
 
 enum class BusModel { ideal, shared };
+// How the shared bus remembers its grants (bus.h): `calendar` (the model) or `busy_until`,
+// the naive arbiter, kept only to measure the error the calendar avoids under `lt`.
+enum class BusArbiter { calendar, busy_until };
 enum class MemoryModel { ideal, latency };
 enum class Level { at, lt, analytic };
 
@@ -28,6 +31,7 @@ struct Arch {
     BusModel model = BusModel::ideal;
     int bytes_per_cycle = 8;
     int arbitration_cycles = 1;
+    BusArbiter arbiter = BusArbiter::calendar;
   } bus;
   struct {
     MemoryModel model = MemoryModel::ideal;
@@ -62,6 +66,7 @@ double parse_time_ns(const std::string& text, const std::string& what);
 
 const char* to_string(Level l);
 const char* to_string(BusModel b);
+const char* to_string(BusArbiter b);
 const char* to_string(MemoryModel m);
 
 }  // namespace oprt
