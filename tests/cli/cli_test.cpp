@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -155,4 +156,40 @@ TEST_CASE("cli: stats name the fields scripts rely on", "[cli]") {
   CHECK(rows == 4);
   CHECK(fs::exists(d / "frame_0000.exr"));
   CHECK(fs::exists(d / "frame_0000.png"));
+}
+
+TEST_CASE("cli: compare prints the image difference as JSON; bad input exits 2", "[cli][compare]") {
+  const fs::path d = temp_dir("compare");
+  const std::string common = "reference " + scene("paper_polygons.json") + " --frames 0 --precision ";
+  REQUIRE(run_oprt(common + "float --resolution 16x16 --out " + (d / "f").string()).status == 0);
+  REQUIRE(run_oprt(common + "double --resolution 16x16 --out " + (d / "d").string()).status == 0);
+  REQUIRE(run_oprt(common + "double --resolution 16x8 --out " + (d / "small").string()).status == 0);
+  const std::string f = (d / "f" / "frame_0000.exr").string(), dbl = (d / "d" / "frame_0000.exr").string();
+
+  Result r = run_oprt("compare " + dbl + " " + dbl);
+  REQUIRE(r.status == 0);
+  auto j = nlohmann::json::parse(r.output);
+  CHECK(j["pixels"] == 256);
+  CHECK(j["id_mismatches"] == 0);
+  CHECK(j["color_rmse"] == 0.0);
+  CHECK(j["max_rel_z"] == 0.0);
+  // Every pixel with a finite Z is compared: the hits of the frame.
+  const oprt::FrameImage img = oprt::read_exr(dbl);
+  std::size_t hits = 0;
+  for (float z : img.z) hits += std::isfinite(z);
+  CHECK(j["z_compared"] == hits);
+
+  r = run_oprt("compare " + f + " " + dbl);  // float against double: small but real differences
+  REQUIRE(r.status == 0);
+  j = nlohmann::json::parse(r.output);
+  CHECK(j["reference"] == dbl);
+  CHECK(j["max_rel_z"].get<double>() > 0);
+  CHECK(j["max_rel_z"].get<double>() < 1e-3);
+
+  r = run_oprt("compare " + f + " " + (d / "small" / "frame_0000.exr").string());
+  CHECK(r.status == 2);
+  CHECK(r.output.find("sizes differ: 16x16 against 16x8") != std::string::npos);
+  r = run_oprt("compare " + f + " " + (d / "nothing.exr").string());
+  CHECK(r.status == 2);
+  CHECK(r.output.find("nothing.exr") != std::string::npos);
 }
