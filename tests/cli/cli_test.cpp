@@ -158,7 +158,7 @@ TEST_CASE("cli: stats name the fields scripts rely on", "[cli]") {
   CHECK(fs::exists(d / "frame_0000.png"));
 }
 
-TEST_CASE("cli: compare prints the image difference as JSON; bad input exits 2", "[cli][compare]") {
+TEST_CASE("cli: compare prints the image difference as JSON, bad input exits 2", "[cli][compare]") {
   const fs::path d = temp_dir("compare");
   const std::string common = "reference " + scene("paper_polygons.json") + " --frames 0 --precision ";
   REQUIRE(run_oprt(common + "float --resolution 16x16 --out " + (d / "f").string()).status == 0);

@@ -95,7 +95,7 @@ TEST_CASE("image compare: hand-computed differences", "[image][compare]") {
   CHECK(d.color_rmse == Approx(std::sqrt(0.3125 / 12)));
 }
 
-TEST_CASE("image compare: sizes must match; unreadable files name themselves", "[image][compare]") {
+TEST_CASE("image compare: sizes must match, unreadable files name themselves", "[image][compare]") {
   CHECK_THROWS_AS(compare_images(FrameImage(2, 2), FrameImage(2, 3)), std::invalid_argument);
   const auto dir = std::filesystem::temp_directory_path() / "oprt_compare_test";
   std::filesystem::create_directories(dir);
