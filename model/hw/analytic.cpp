@@ -28,7 +28,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     for (auto& w : u.per_sphere) w.assign(geom_.sphere_count(), WorkCounts{});
 
   const bool shared = arch_.bus.model == BusModel::shared;
-  Arbiter<Cycles> bus(arch_.bus.arbiter == BusArbiter::busy_until);
+  Calendar<Cycles> bus;
   auto transfer = [&](Cycles at, std::uint64_t bytes) -> Cycles {  // returns when it is done
     ++out.bus_transfers;
     out.bus_bytes += bytes;

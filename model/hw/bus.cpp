@@ -15,7 +15,7 @@ Bus::Bus(const sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter
       bytes_per_cycle_(arch.bus.bytes_per_cycle),
       arbitration_cycles_(arch.bus.arbitration_cycles),
       cycle_(arch.cycle_ns(), SC_NS),
-      arbiter_(arch.bus.arbiter == BusArbiter::busy_until),
+      arbiter_(decoupled && arch.bus.lt_arbitration == LtArbitration::busy_until),
       vcd_(vcd) {
   in.register_b_transport(this, &Bus::b_transport);
   if (vcd_) vcd_busy_ = vcd_->add(this->name(), "busy", 1);

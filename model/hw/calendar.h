@@ -41,7 +41,7 @@ class Calendar {
 // max(request, busy_until). Identical to the calendar when requests arrive in time order
 // (`at`). Under temporal decoupling a request that arrives after a later-timed one queues
 // behind it: contention is overstated by up to a quantum per transfer. Kept only to
-// measure the error the calendar avoids (bus.arbiter = "busy_until").
+// measure the error the calendar avoids (bus.lt_arbitration = "busy_until").
 template <typename Time>
 class BusyUntil {
  public:

@@ -22,6 +22,7 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
       rays_(rays),
       cycle_(arch.cycle_ns(), SC_NS),
       clock_(arch.level == Level::lt),
+      sync_on_bus_(arch.bus.model == BusModel::shared && arch.bus.lt_arbitration == LtArbitration::sync),
       vcd_(vcd) {
   host.register_b_transport(this, &Gpp::host_transport);
   hits.register_b_transport(this, &Gpp::hit_transport);
@@ -59,6 +60,7 @@ void Gpp<T>::write(std::uint64_t address, void* data, unsigned bytes) {
   write_.set_data_ptr(static_cast<unsigned char*>(data));
   write_.set_data_length(bytes);
   write_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+  if (sync_on_bus_) clock_.sync();  // bus.lt_arbitration = sync (bus.h)
   sc_time delay = clock_.offset();
   const sc_time sim = sc_time_stamp();
   bus->b_transport(write_, delay);

@@ -90,6 +90,7 @@ class Gpp : public sc_core::sc_module {
   std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
   std::vector<IuRegisters<T>> registers_;
   LocalClock clock_;
+  const bool sync_on_bus_;
   GppStats stats_;
 
   // Frame state.
