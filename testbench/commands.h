@@ -22,5 +22,7 @@ struct CommonOptions {
 
 int run_info(const CommonOptions& o);
 int run_reference(const CommonOptions& o);
+// Prints the difference of IMAGE from REFERENCE as JSON.
+int run_compare(const std::string& image, const std::string& reference);
 
 }  // namespace oprt

@@ -2,6 +2,7 @@
 //   oprt render SCENE ...     the timed SystemC model
 //   oprt reference SCENE ...  the untimed functional reference
 //   oprt info SCENE ...       scene, spheres and their assignment
+//   oprt compare A.exr B.exr  how far frame A is from reference frame B (JSON)
 // Any bad input ends with one message "oprt: FILE: PLACE: PROBLEM" and exit status 2.
 #include "commands.h"
 #include "render.h"
@@ -51,6 +52,11 @@ int main(int argc, char** argv) {
   ref->add_option("--accel", opt.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
   add_load_options(ref, opt.load);
 
+  std::string compare_image, compare_reference;
+  auto* compare = app.add_subcommand("compare", "print how far a frame is from a reference frame (JSON)");
+  compare->add_option("IMAGE", compare_image, "frame_NNNN.exr to judge")->required();
+  compare->add_option("REFERENCE", compare_reference, "frame_NNNN.exr of the same size to judge it against")->required();
+
   RenderOptions ro;
   auto* render = app.add_subcommand("render", "render with the timed SystemC model");
   render->add_option("SCENE", ro.scene, "scene file")->required();
@@ -83,6 +89,7 @@ int main(int argc, char** argv) {
     if (*info) return run_info(opt);
     if (*ref) return run_reference(opt);
     if (*render) return run_render(ro);
+    if (*compare) return run_compare(compare_image, compare_reference);
   } catch (const InputError& e) {
     std::cerr << "oprt: " << e.what() << "\n";
     return 2;

@@ -88,6 +88,9 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   auto issue = [&](std::uint32_t id) {
     g += arch_.gpp.cycles_per_ray;
     if (depth && id >= depth) g = std::max(g, last_pop[id - depth]);  // room in every FIFO
+    // Every later request is at or after g (the GPP's time never decreases, and a unit
+    // answers after the ray arrived): grants that ended by then can no longer matter.
+    bus.forget_before(g);
     g = transfer(g, Bytes<T>::ray);
     const Cycles avail = g;
     InFlight& r = rays[id];

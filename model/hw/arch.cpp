@@ -10,6 +10,9 @@ namespace oprt {
 
 const char* to_string(Level l) { return l == Level::at ? "at" : l == Level::lt ? "lt" : "analytic"; }
 const char* to_string(BusModel b) { return b == BusModel::ideal ? "ideal" : "shared"; }
+const char* to_string(LtArbitration b) {
+  return b == LtArbitration::sync ? "sync" : b == LtArbitration::calendar ? "calendar" : "busy_until";
+}
 const char* to_string(MemoryModel m) { return m == MemoryModel::ideal ? "ideal" : "latency"; }
 
 double parse_time_ns(const std::string& text, const std::string& what) {
@@ -92,10 +95,13 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   }
   a.fifo_depth = static_cast<int>(root.integer_or("ray_fifo_depth", a.fifo_depth, 0, 1 << 24));
   if (auto b = root.find("bus")) {
-    b->only_keys({"model", "bytes_per_cycle", "arbitration_cycles"});
+    b->only_keys({"model", "bytes_per_cycle", "arbitration_cycles", "lt_arbitration"});
     a.bus.model = choose<BusModel>(b->at("model"), {{"ideal", BusModel::ideal}, {"shared", BusModel::shared}});
     a.bus.bytes_per_cycle = static_cast<int>(b->integer_or("bytes_per_cycle", a.bus.bytes_per_cycle, 1, 1 << 20));
     a.bus.arbitration_cycles = static_cast<int>(b->integer_or("arbitration_cycles", a.bus.arbitration_cycles, 0, 1 << 20));
+    if (auto v = b->find("lt_arbitration"))
+      a.bus.lt_arbitration = choose<LtArbitration>(
+          *v, {{"sync", LtArbitration::sync}, {"calendar", LtArbitration::calendar}, {"busy_until", LtArbitration::busy_until}});
   }
   if (auto m = root.find("memory")) {
     m->only_keys({"model", "latency_cycles", "bytes_per_cycle"});
@@ -133,7 +139,7 @@ nlohmann::json to_json(const Arch& a) {
                      {"box", a.costs.box}, {"box_setup", a.costs.box_setup}}},
           {"ray_fifo_depth", a.fifo_depth},
           {"bus", {{"model", to_string(a.bus.model)}, {"bytes_per_cycle", a.bus.bytes_per_cycle},
-                   {"arbitration_cycles", a.bus.arbitration_cycles}}},
+                   {"arbitration_cycles", a.bus.arbitration_cycles}, {"lt_arbitration", to_string(a.bus.lt_arbitration)}}},
           {"memory", {{"model", to_string(a.memory.model)}, {"latency_cycles", a.memory.latency_cycles},
                       {"bytes_per_cycle", a.memory.bytes_per_cycle}}},
           {"gpp", {{"cycles_per_ray", a.gpp.cycles_per_ray}, {"cycles_per_hit", a.gpp.cycles_per_hit}}},

@@ -15,6 +15,12 @@
 namespace oprt {
 
 enum class BusModel { ideal, shared };
+// How the shared bus arbitrates under temporal decoupling (`lt`; bus.h): `sync` (an
+// initiator synchronises before each transfer: requests arrive in time order, as at `at`),
+// `calendar` (requests up to a quantum ahead are slotted into the calendar of grants), or
+// `busy_until` (the naive single busy-until time, kept only to measure the error it makes).
+// All three are the same arbitration at `at`.
+enum class LtArbitration { sync, calendar, busy_until };
 enum class MemoryModel { ideal, latency };
 enum class Level { at, lt, analytic };
 
@@ -28,6 +34,7 @@ struct Arch {
     BusModel model = BusModel::ideal;
     int bytes_per_cycle = 8;
     int arbitration_cycles = 1;
+    LtArbitration lt_arbitration = LtArbitration::sync;
   } bus;
   struct {
     MemoryModel model = MemoryModel::ideal;
@@ -64,6 +71,7 @@ double parse_time_ns(const std::string& text, const std::string& what);
 
 const char* to_string(Level l);
 const char* to_string(BusModel b);
+const char* to_string(LtArbitration b);
 const char* to_string(MemoryModel m);
 
 }  // namespace oprt

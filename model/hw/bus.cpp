@@ -15,6 +15,7 @@ Bus::Bus(const sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter
       bytes_per_cycle_(arch.bus.bytes_per_cycle),
       arbitration_cycles_(arch.bus.arbitration_cycles),
       cycle_(arch.cycle_ns(), SC_NS),
+      arbiter_(decoupled && arch.bus.lt_arbitration == LtArbitration::busy_until),
       vcd_(vcd) {
   in.register_b_transport(this, &Bus::b_transport);
   if (vcd_) vcd_busy_ = vcd_->add(this->name(), "busy", 1);
@@ -44,9 +45,9 @@ void Bus::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
     const std::uint64_t cycles =
         arbitration_cycles_ + (p.get_data_length() + bytes_per_cycle_ - 1) / bytes_per_cycle_;
     busy_cycles_ += cycles;
-    calendar_.forget_before(sc_time_stamp());
+    arbiter_.forget_before(sc_time_stamp());
     sc_time start;
-    const sc_time end = calendar_.reserve(sc_time_stamp() + delay, cycle_ * static_cast<double>(cycles), &start);
+    const sc_time end = arbiter_.reserve(sc_time_stamp() + delay, cycle_ * static_cast<double>(cycles), &start);
     if (vcd_) {
       vcd_->change(vcd_busy_, start.value(), 1);
       vcd_->change(vcd_busy_, end.value(), 0);

@@ -6,13 +6,22 @@
 // Timing. `ideal`: transfers take no time and never contend (the paper's assumption).
 // `shared`: one transfer at a time, each occupying the bus for arbitration_cycles +
 // ceil(bytes / bytes_per_cycle) cycles, granted first come first served by request time.
-// The arbiter keeps a calendar of granted intervals rather than a single "busy until"
-// time: under temporal decoupling requests reach it out of time order (a unit running
-// ahead asks before an earlier request from a unit that is behind), and a late-arriving
-// earlier request is slotted into the first gap at or after its own time instead of being
-// queued behind every reservation made so far, which would overstate contention by up to
-// a quantum per transfer. At `at` requests arrive in time order and the calendar reduces
-// to FCFS exactly; the initiator waits out its transfer inside b_transport.
+// The arbiter keeps a calendar of granted intervals (calendar.h). At `at` requests arrive
+// in time order, the calendar reduces to FCFS exactly, and the initiator waits out its
+// transfer inside b_transport.
+//
+// Under temporal decoupling (`lt`) a request carries its initiator's local time, which may
+// be ahead of simulation time, so requests can reach the bus out of time order. How that is
+// handled is bus.lt_arbitration (arch.h):
+//   sync      (default) the initiators synchronise before each transfer on this bus (gpp.cpp,
+//             intersection_unit.cpp), so requests arrive in time order and are granted as at
+//             `at`; computation between transfers stays decoupled.
+//   calendar  requests arrive up to a quantum ahead; a late-arriving earlier request takes
+//             the first gap at or after its own time. Cheaper, but when requests conflict
+//             the one that arrived first in simulation keeps its slot: an initiator running
+//             ahead gains priority it would not have at `at` (measured: docs/results.md).
+//   busy_until  the naive arbiter: every request queues behind the latest grant, which
+//             overstates contention by up to a quantum per transfer. Kept to show that.
 #pragma once
 
 #include "hw/arch.h"
@@ -55,7 +64,7 @@ class Bus : public sc_core::sc_module {
   const int bytes_per_cycle_, arbitration_cycles_;
   const sc_core::sc_time cycle_;
   std::vector<Region> regions_;
-  Calendar<sc_core::sc_time> calendar_;
+  Arbiter<sc_core::sc_time> arbiter_;
   std::uint64_t busy_cycles_ = 0, transfers_ = 0, bytes_ = 0;
   VcdWriter* vcd_;
   int vcd_busy_ = -1;

@@ -22,6 +22,7 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
       rays_(rays),
       cycle_(arch.cycle_ns(), SC_NS),
       clock_(arch.level == Level::lt),
+      sync_on_bus_(arch.bus.model == BusModel::shared && arch.bus.lt_arbitration == LtArbitration::sync),
       vcd_(vcd) {
   host.register_b_transport(this, &Gpp::host_transport);
   hits.register_b_transport(this, &Gpp::hit_transport);
@@ -59,6 +60,7 @@ void Gpp<T>::write(std::uint64_t address, void* data, unsigned bytes) {
   write_.set_data_ptr(static_cast<unsigned char*>(data));
   write_.set_data_length(bytes);
   write_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+  if (sync_on_bus_) clock_.sync();  // bus.lt_arbitration = sync (bus.h)
   sc_time delay = clock_.offset();
   const sc_time sim = sc_time_stamp();
   bus->b_transport(write_, delay);
@@ -81,20 +83,32 @@ int Gpp<T>::full_fifo() const {
 }
 
 // Wait for an answer, or for room in the (first) full FIFO if a ray is waiting to be
-// written; a unit popping another FIFO changes nothing the GPP waits for.
+// written (a unit popping another FIFO changes nothing the GPP waits for), or until the
+// deadline: the time of the next work item already known (temporal decoupling only).
 template <typename T>
-void Gpp<T>::wait_for_space_or_answers(bool want_space) {
+void Gpp<T>::wait_for_space_or_answers(bool want_space, const sc_time* deadline) {
   if (clock_.offset() != SC_ZERO_TIME) {  // catch up first; the caller looks again
     clock_.sync();
     return;
   }
   const int full = want_space ? full_fifo() : -1;
-  if (full >= 0) wait(answered_ | fifos[full]->freed_event());
+  if (deadline && full >= 0) wait(*deadline - sc_time_stamp(), answered_ | fifos[full]->freed_event());
+  else if (deadline) wait(*deadline - sc_time_stamp(), answered_);
+  else if (full >= 0) wait(answered_ | fifos[full]->freed_event());
   else wait(answered_);
   // Units finishing in the same time step answer within its first delta cycle: let them
   // all arrive, so that simultaneous completions are handled in ray order.
-  if (!clock_.decoupled()) wait(SC_ZERO_TIME);
+  wait(SC_ZERO_TIME);
   clock_.resync();
+}
+
+// When every ray FIFO has room for the next write (call only when none is full): under
+// temporal decoupling the pop that made room may lie ahead of the GPP's local time.
+template <typename T>
+sc_time Gpp<T>::room_time() const {
+  sc_time t = clock_.now();
+  for (int i = 0; i < fifos.size(); ++i) t = std::max(t, fifos[i]->space_time());
+  return t;
 }
 
 template <typename T>
@@ -112,9 +126,8 @@ std::uint32_t Gpp<T>::new_ray(const Ray<T>& ray, RayKind kind, std::uint32_t pix
 
 template <typename T>
 void Gpp<T>::issue(std::uint32_t id) {
+  clock_.advance_to(room_time());  // as at `at`: room first, then the ray is generated
   clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_ray));
-  // Under temporal decoupling the pop that made room may lie ahead of simulation time.
-  for (int i = 0; i < fifos.size(); ++i) clock_.advance_to(fifos[i]->space_time());
   pending_[id].answers_left = units_;
   ++issued_;
   ++stats_.rays[static_cast<int>(rays_[id].kind)];
@@ -241,31 +254,40 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   const CameraRays camera(cmd.camera, cmd.width, cmd.height);
   const Shader<T> shader(scene_, setup);
   std::size_t next_pixel = 0;
+  // The GPP's next work item, at either level: the earlier of (a) handling an answered
+  // ray, due when its last answer arrived, and (b) writing the next ray (a shadow ray
+  // first), possible once every FIFO has room; on a tie (a), as at `at`. At `at` both are
+  // always due by the time the GPP looks. Under temporal decoupling either can lie in the
+  // GPP's future: a unit running ahead answers, or pops, early in simulation order. The
+  // GPP then does not jump its clock to that time (it would handle that answer before
+  // answers due earlier that lagging units have yet to send, and hold back every ray it
+  // would have written meanwhile) but waits in simulation time until it is due, or until
+  // something earlier turns up.
+  const sc_time never = sc_max_time();
   for (;;) {
-    if (!completed_.empty()) {
-      const std::uint32_t id = completed_.top().ray;
-      completed_.pop();
-      retire(id, cmd, shader);
-      continue;
-    }
-    if (!shadow_queue_.empty()) {
-      if (full_fifo() < 0) {
+    const bool work = !shadow_queue_.empty() || next_pixel < pixels;
+    const bool room = work && full_fifo() < 0;
+    const sc_time due = completed_.empty() ? never : completed_.top().at;
+    const sc_time ready = room ? room_time() : never;
+    const sc_time next = std::min(due, ready);
+    if (next == never && !work && retired_ == issued_) break;
+    if (next <= clock_.now()) {
+      if (due <= ready) {
+        const std::uint32_t id = completed_.top().ray;
+        completed_.pop();
+        retire(id, cmd, shader);
+      } else if (!shadow_queue_.empty()) {
         const std::uint32_t id = shadow_queue_.front();
         shadow_queue_.pop_front();
         issue(id);
-        continue;
-      }
-    } else if (next_pixel < pixels) {
-      if (full_fifo() < 0) {
+      } else {
         const int x = static_cast<int>(next_pixel % cmd.width), y = static_cast<int>(next_pixel / cmd.width);
         issue(new_ray(camera.ray<T>(x, y), RayKind::primary, static_cast<std::uint32_t>(next_pixel)));
         ++next_pixel;
-        continue;
       }
-    } else if (retired_ == issued_) {
-      break;
+      continue;
     }
-    wait_for_space_or_answers(!shadow_queue_.empty() || next_pixel < pixels);
+    wait_for_space_or_answers(work && !room, next == never ? nullptr : &next);
   }
   stats_.end = clock_.now();
 }

@@ -76,7 +76,8 @@ class Gpp : public sc_core::sc_module {
   void load_memories();
   void write(std::uint64_t address, void* data, unsigned bytes);
   int full_fifo() const;  // index of a full ray FIFO, or -1
-  void wait_for_space_or_answers(bool want_space);
+  void wait_for_space_or_answers(bool want_space, const sc_core::sc_time* deadline);
+  sc_core::sc_time room_time() const;
   std::uint32_t new_ray(const Ray<T>& ray, RayKind kind, std::uint32_t pixel);
   void issue(std::uint32_t ray);
   void retire(std::uint32_t ray, const FrameCommand& cmd, const Shader<T>& shader);
@@ -90,6 +91,7 @@ class Gpp : public sc_core::sc_module {
   std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
   std::vector<IuRegisters<T>> registers_;
   LocalClock clock_;
+  const bool sync_on_bus_;
   GppStats stats_;
 
   // Frame state.

@@ -19,6 +19,7 @@ IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const 
       rays_(rays),
       cycle_(arch.cycle_ns(), SC_NS),
       clock_(arch.level == Level::lt),
+      sync_on_bus_(arch.bus.model == BusModel::shared && arch.bus.lt_arbitration == LtArbitration::sync),
       vcd_(vcd) {
   cfg.register_b_transport(this, &IntersectionUnit::cfg_transport);
   if (vcd_) vcd_state_ = vcd_->add(this->name(), "state", 3);
@@ -120,6 +121,7 @@ void IntersectionUnit<T>::run() {
     answer_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
     const sc_time before = clock_.now();
     if (vcd_ && arch_.bus.model == BusModel::shared) trace_state(UnitState::stall, before);
+    if (sync_on_bus_) clock_.sync();  // bus.lt_arbitration = sync (bus.h)
     sc_time delay = clock_.offset();
     const sc_time sim = sc_time_stamp();
     bus->b_transport(answer_, delay);

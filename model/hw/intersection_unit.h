@@ -63,6 +63,7 @@ class IntersectionUnit : public sc_core::sc_module {
   IuRegisters<T> regs_;
   UnitStats stats_;
   LocalClock clock_;
+  const bool sync_on_bus_;
   StageLog log_;
   tlm::tlm_generic_payload answer_, read_;
   VcdWriter* vcd_;

@@ -1,5 +1,7 @@
 #include "ref/image.h"
 
+#include "scene/error.h"
+
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
@@ -94,8 +96,12 @@ void write_exr(const std::string& path, const FrameImage& img) {
   });
 }
 
-FrameImage read_exr(const std::string& path) {
+namespace {
+FrameImage read_exr_or_throw(const std::string& path) {
   Imf::InputFile file(path.c_str());
+  for (const char* c : {"R", "G", "B", "Z", "objectId", "primId"})
+    if (!file.header().channels().findChannel(c))
+      throw InputError(path, std::string("channel ") + c, "missing (an oprt frame has R, G, B, Z, objectId, primId)");
   const auto dw = file.header().dataWindow();
   FrameImage img(dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1);
   Imf::FrameBuffer fb;
@@ -113,6 +119,17 @@ FrameImage read_exr(const std::string& path) {
   file.setFrameBuffer(fb);
   file.readPixels(dw.min.y, dw.max.y);
   return img;
+}
+}  // namespace
+
+FrameImage read_exr(const std::string& path) {
+  try {
+    return read_exr_or_throw(path);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {  // OpenEXR's: missing, truncated, not an EXR
+    throw InputError(path, "", std::string("cannot read as OpenEXR: ") + e.what());
+  }
 }
 
 void write_png(const std::string& path, const FrameImage& img) {

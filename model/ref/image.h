@@ -24,6 +24,7 @@ struct FrameImage {
 };
 
 void write_exr(const std::string& path, const FrameImage& img);
+// Throws InputError (naming the file) if it cannot be read or lacks one of the six channels.
 FrameImage read_exr(const std::string& path);
 // sRGB-ish preview: clamp to [0, 1], gamma 2.2.
 void write_png(const std::string& path, const FrameImage& img);

@@ -28,6 +28,7 @@ TEST_CASE("arch: defaults are the paper's ideal assumptions", "[arch]") {
   CHECK(a.costs.moller.transform == 19);
   CHECK(a.fifo_depth == 0);
   CHECK(a.bus.model == BusModel::ideal);
+  CHECK(a.bus.lt_arbitration == LtArbitration::sync);
   CHECK(a.memory.model == MemoryModel::ideal);
   CHECK(a.gpp.cycles_per_ray == 0);
   CHECK(a.level == Level::at);
@@ -37,7 +38,7 @@ TEST_CASE("arch: every field is read", "[arch]") {
   const Arch a = parse(R"({"format": "oprt-arch/1", "clock_mhz": 200, "ius": 8,
     "costs": {"sphere": 13, "transform": 20, "triangle": [5, 15, 18, 23],
               "watertight": {"transform": 22, "triangle": [17, 19, 20, 26]}}, "ray_fifo_depth": 4,
-    "bus": {"model": "shared", "bytes_per_cycle": 16, "arbitration_cycles": 2},
+    "bus": {"model": "shared", "bytes_per_cycle": 16, "arbitration_cycles": 2, "lt_arbitration": "calendar"},
     "memory": {"model": "latency", "latency_cycles": 7, "bytes_per_cycle": 32},
     "gpp": {"cycles_per_ray": 3, "cycles_per_hit": 40}, "level": "lt", "quantum": "250 ns",
     "balance": "sa_n", "subdivide": 8, "kernel": "watertight", "precision": "double"})");
@@ -52,6 +53,7 @@ TEST_CASE("arch: every field is read", "[arch]") {
   CHECK(a.fifo_depth == 4);
   CHECK(a.bus.bytes_per_cycle == 16);
   CHECK(a.bus.arbitration_cycles == 2);
+  CHECK(a.bus.lt_arbitration == LtArbitration::calendar);
   CHECK(a.memory.latency_cycles == 7);
   CHECK(a.gpp.cycles_per_hit == 40);
   CHECK(a.level == Level::lt);
@@ -81,6 +83,8 @@ TEST_CASE("arch: bad files fail with the place and the problem", "[arch]") {
   expect_error(R"({"format": "oprt-arch/1", "bus": {"model": "crossbar"}})", "/bus/model", "unknown value");
   expect_error(R"({"format": "oprt-arch/1", "bus": {"model": "shared", "bytes_per_cycle": 0}})",
                "/bus/bytes_per_cycle", "out of range");
+  expect_error(R"({"format": "oprt-arch/1", "bus": {"model": "shared", "lt_arbitration": "lottery"}})", "/bus/lt_arbitration",
+               "unknown value");
   expect_error(R"({"format": "oprt-arch/1", "fifo": 4})", "/fifo", "unknown key");
   expect_error(R"({"format": "oprt-arch/1", "clock_mhz": "fast"})", "/clock_mhz", "expected a number");
   expect_error(R"({"format": "oprt-arch/2"})", "/format", "unsupported");
