@@ -67,6 +67,9 @@ int main(int argc, char** argv) {
   } catch (const InputError& e) {
     std::cerr << "oprt: " << e.what() << "\n";
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "oprt: out of memory (a smaller --resolution, fewer --ius or a smaller scene needs less)\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "oprt: error: " << e.what() << "\n";
     return 1;

@@ -29,6 +29,7 @@ int reference(const CommonOptions& o, const Scene& scene) {
   int width = scene.width, height = scene.height;
   parse_resolution(o.resolution, width, height);
   const FrameRange frames = parse_frames(o.frames, scene);
+  check_motions(scene, frames.first, frames.last);
   const auto t_build = std::chrono::steady_clock::now();
   SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, o.subdivide));
   const bool deforming = has_deforming(scene);

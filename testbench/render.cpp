@@ -103,6 +103,7 @@ int run_render(const RenderOptions& o) {
   job.height = scene.height;
   parse_resolution(o.resolution, job.width, job.height);
   job.frames = parse_frames(o.frames, scene);
+  check_motions(scene, job.frames.first, job.frames.last);
   job.out_dir = o.out;
   job.vcd_path = o.vcd;
   job.progress = o.progress && ::isatty(2);
