@@ -3,6 +3,7 @@
 #include "frame_output.h"
 #include "gtkwave.h"
 #include "policy_driver.h"
+#include "hw/watchdog.h"
 #include "ref/frame_setup.h"
 
 #include <cstdio>
@@ -176,6 +177,10 @@ void simulate(RenderJob& job, SceneGeometry<T>& geometry) {
   Testbench<T> tb("testbench", job, geometry);
   sc_start();
   if (job.error) std::rethrow_exception(job.error);
+  if (job.completed != job.frames.count())
+    hw::check_deadlock("frame " + std::to_string(job.frames.first + job.completed) + " is unfinished (" +
+                       std::to_string(job.completed) + " of " + std::to_string(job.frames.count()) +
+                       " frames completed)");
   if (job.completed != job.frames.count())
     throw std::runtime_error("simulation ended after " + std::to_string(job.completed) + " of " +
                              std::to_string(job.frames.count()) + " frames");

@@ -45,8 +45,10 @@ void Gpp<T>::run() {
   for (;;) {
     wait(request_);
     clock_.resync();
+    in_frame_ = true;
     if (command_->setup_only) load_memories();
     else render_frame(*command_);
+    in_frame_ = false;
     clock_.sync();
     done_.notify();
   }
@@ -89,6 +91,7 @@ void Gpp<T>::wait_for_space_or_answers(bool want_space) {
     return;
   }
   const int full = want_space ? full_fifo() : -1;
+  waiting_on_fifo_ = full;
   if (full >= 0) wait(answered_ | fifos[full]->freed_event());
   else wait(answered_);
   // Units finishing in the same time step answer within its first delta cycle: let them
@@ -266,6 +269,25 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     wait_for_space_or_answers(!shadow_queue_.empty() || next_pixel < pixels);
   }
   stats_.end = clock_.now();
+}
+
+template <typename T>
+std::string Gpp<T>::waiting_for() const {
+  if (!in_frame_) return "idle, waiting for a frame command";
+  if (command_->setup_only) return "loading object memories";
+  std::string s = "frame " + std::to_string(command_->frame) + ": " + std::to_string(issued_) + " rays issued, " +
+                  std::to_string(retired_) + " retired; waiting for answers";
+  if (waiting_on_fifo_ >= 0) {
+    const auto* f = dynamic_cast<const sc_object*>(fifos[waiting_on_fifo_]);
+    s += " or for room in " + std::string(f ? f->name() : "a FIFO") + " (" + fifos[waiting_on_fifo_]->fill_state() + ")";
+  }
+  for (std::size_t id = 0; id < pending_.size(); ++id)
+    if (pending_[id].answers_left) {
+      s += "; oldest ray in flight " + std::to_string(id) + " has " + std::to_string(units_ - pending_[id].answers_left) +
+           " of " + std::to_string(units_) + " answers";
+      break;
+    }
+  return s;
 }
 
 template class Gpp<float>;

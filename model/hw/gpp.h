@@ -16,6 +16,7 @@
 #include "hw/payloads.h"
 #include "hw/ray_fifo.h"
 #include "hw/vcd_writer.h"
+#include "hw/watchdog.h"
 #include "ref/image.h"
 #include "ref/shading.h"
 
@@ -39,7 +40,7 @@ struct GppStats {
 };
 
 template <typename T>
-class Gpp : public sc_core::sc_module {
+class Gpp : public sc_core::sc_module, public Waiter {
  public:
   tlm_utils::simple_target_socket<Gpp> host;   // frame commands
   tlm_utils::simple_target_socket<Gpp> hits;   // answers from the units (via the bus)
@@ -55,6 +56,7 @@ class Gpp : public sc_core::sc_module {
   const GppStats& stats() const { return stats_; }
   // Called now and then during a frame with (primary rays retired, pixels): for progress bars.
   void on_progress(std::function<void(std::uint64_t, std::uint64_t)> f) { progress_ = std::move(f); }
+  std::string waiting_for() const override;
 
  private:
   struct Pixel {
@@ -113,6 +115,10 @@ class Gpp : public sc_core::sc_module {
   std::uint64_t primaries_retired_ = 0, pixel_count_ = 0;
   VcdWriter* vcd_;
   int vcd_in_flight_ = -1, vcd_frame_ = -1;
+  // For the watchdog (plain stores): in a frame, and what it waits for (-1: answers only,
+  // else also room in that FIFO).
+  bool in_frame_ = false;
+  int waiting_on_fifo_ = -1;
 };
 
 extern template class Gpp<float>;
