@@ -3,6 +3,7 @@
 #include "commands.h"
 #include "options.h"
 #include "ref/reference.h"
+#include "ref/stop.h"
 #include "scene/load.h"
 
 #include <chrono>
@@ -43,10 +44,16 @@ int reference(const CommonOptions& o, const Scene& scene) {
                           {"triangles", scene.triangle_count()},
                           {"build_s", build_s},
                           {"frames", nlohmann::json::array()}};
+  int completed = 0;
   for (int f = frames.first; f <= frames.last; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     if (deforming) update_deforming(g, scene, f);
-    const FrameResult r = render_reference(scene, g, f, width, height);
+    FrameResult r;
+    try {
+      r = render_reference(scene, g, f, width, height);
+    } catch (const Interrupted& e) {
+      throw Interrupted(e.signal(), frames_completed(frames.first, frames.last, completed));
+    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::string exr = (std::filesystem::path(o.out) / frame_name(f, "exr")).string();
     write_exr(exr, r.image);
@@ -72,12 +79,15 @@ int reference(const CommonOptions& o, const Scene& scene) {
                 wall, (unsigned long long)rays, (unsigned long long)r.work.rays[0],
                 (unsigned long long)r.work.rays[1], r.work.total().tri_tests() / 1e6, exr.c_str());
     std::fflush(stdout);
-  }
-  write_atomically((std::filesystem::path(o.out) / "reference.json").string(), [&](const std::string& tmp) {
-    std::ofstream out(tmp);
-    out << stats.dump(1) << "\n";
+    // After every frame, so that a stopped run leaves the statistics of every frame it wrote.
+    write_atomically((std::filesystem::path(o.out) / "reference.json").string(), [&](const std::string& tmp) {
+      std::ofstream out(tmp);
+      out << stats.dump(1) << "\n";
+      out.close();  // a failed flush (disk full) must not be renamed into place
     if (!out) throw std::runtime_error("cannot write " + tmp);
-  });
+    });
+    ++completed;
+  }
   return 0;
 }
 

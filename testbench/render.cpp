@@ -72,8 +72,15 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
     simulate<T>(job, geometry);
     return 0;
   }
+  // An exception out of sc_main would be reported by SystemC as "uncaught exception" (E549):
+  // carry it out of the kernel and rethrow it here, for main to report.
+  std::exception_ptr failure;
   g_simulation = [&] {
-    simulate<T>(job, geometry);
+    try {
+      simulate<T>(job, geometry);
+    } catch (...) {
+      failure = std::current_exception();
+    }
     return 0;
   };
   // SystemC reports become exceptions (caught in main), never an abort.
@@ -84,6 +91,7 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
   char* argv[] = {arg0, nullptr};
   const int rc = sc_core::sc_elab_and_sim(1, argv);
   g_simulation = nullptr;
+  if (failure) std::rethrow_exception(failure);
   return rc;
 }
 

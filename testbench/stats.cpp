@@ -94,6 +94,7 @@ void StatsWriter::add(const FrameStats& f) {
   write_atomically((dir / "stats.json").string(), [&](const std::string& tmp) {
     std::ofstream out(tmp);
     out << doc.dump(1) << "\n";
+    out.close();  // a failed flush (disk full) must not be renamed into place
     if (!out) throw std::runtime_error("cannot write " + tmp);
   });
   write_atomically((dir / "stats.csv").string(), [&](const std::string& tmp) {
@@ -104,6 +105,7 @@ void StatsWriter::add(const FrameStats& f) {
         out << x.frame << ',' << u.id << ',' << u.spheres.size() << ',' << u.primitives << ',' << u.rays << ','
             << u.cycles.sphere << ',' << u.cycles.transform << ',' << u.cycles.primitive << ',' << u.idle << ','
             << u.cycles.stall << ',' << u.cycles.busy() << ',' << x.makespan << ',' << x.efficiency() << '\n';
+    out.close();  // a failed flush (disk full) must not be renamed into place
     if (!out) throw std::runtime_error("cannot write " + tmp);
   });
 }

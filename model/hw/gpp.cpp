@@ -1,6 +1,7 @@
 #include "hw/gpp.h"
 
 #include "ref/camera.h"
+#include "ref/stop.h"
 
 #include <algorithm>
 
@@ -243,6 +244,10 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   const Shader<T> shader(scene_, setup);
   std::size_t next_pixel = 0;
   for (;;) {
+    if (stop_signal()) {  // SIGINT / SIGTERM: abandon the frame; the testbench says what completed
+      sc_stop();
+      wait(abandoned_);  // never notified
+    }
     if (!completed_.empty()) {
       const std::uint32_t id = completed_.top().ray;
       completed_.pop();

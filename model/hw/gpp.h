@@ -95,7 +95,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
 
   // Frame state.
   const FrameCommand* command_ = nullptr;
-  sc_core::sc_event request_, done_, answered_;
+  sc_core::sc_event request_, done_, answered_, abandoned_;
   std::vector<Pending> pending_;
   std::vector<Pixel> pixels_;
   // Rays whose answers are all in, by (completion time, ray id): the GPP handles them in
