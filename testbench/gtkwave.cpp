@@ -33,6 +33,7 @@ void write_gtkwave_save(const std::string& vcd_path, const std::string& save_pat
   write_atomically(filter.string(), [&](const std::string& tmp) {
     std::ofstream f(tmp);
     f << "0 idle\n1 sphere\n2 transform\n3 primitive\n4 stall\n5 box\n";
+    f.close();
     if (!f) throw std::runtime_error("cannot write " + tmp);
   });
   std::vector<std::string> gpp, bus;
@@ -72,6 +73,7 @@ void write_gtkwave_save(const std::string& vcd_path, const std::string& save_pat
       }
       g << kGroupEnd << "\n-" << name << "\n";
     }
+    g.close();
     if (!g) throw std::runtime_error("cannot write " + tmp);
   });
 }

@@ -6,6 +6,7 @@
 // Any bad input ends with one message "oprt: FILE: PLACE: PROBLEM" and exit status 2.
 #include "commands.h"
 #include "render.h"
+#include "ref/stop.h"
 #include "scene/error.h"
 
 #include <CLI/CLI.hpp>
@@ -85,6 +86,7 @@ int main(int argc, char** argv) {
     std::cerr << "oprt: " << e.what() << "\n";
     return 2;
   }
+  install_stop_handlers();
   try {
     if (*info) return run_info(opt);
     if (*ref) return run_reference(opt);
@@ -93,6 +95,12 @@ int main(int argc, char** argv) {
   } catch (const InputError& e) {
     std::cerr << "oprt: " << e.what() << "\n";
     return 2;
+  } catch (const Interrupted& e) {
+    std::cerr << "oprt: " << e.what() << "\n";
+    return 128 + e.signal();
+  } catch (const std::bad_alloc&) {
+    std::cerr << "oprt: out of memory (a smaller --resolution, fewer --ius or a smaller scene needs less)\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "oprt: error: " << e.what() << "\n";
     return 1;

@@ -3,6 +3,7 @@
 #include "commands.h"
 #include "options.h"
 #include "ref/reference.h"
+#include "ref/stop.h"
 #include "scene/load.h"
 
 #include <chrono>
@@ -31,6 +32,7 @@ int reference(const CommonOptions& o, const Scene& scene) {
   int width = scene.width, height = scene.height;
   parse_resolution(o.resolution, width, height);
   const FrameRange frames = parse_frames(o.frames, scene);
+  check_motions(scene, frames.first, frames.last);
   const auto t_build = std::chrono::steady_clock::now();
   const Kernel kernel = kernel_named(o.kernel).value_or(Kernel::moller);
   SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, o.subdivide), kernel, accel_named(o.accel));
@@ -49,10 +51,16 @@ int reference(const CommonOptions& o, const Scene& scene) {
                           {"triangles", scene.triangle_count()},
                           {"build_s", build_s},
                           {"frames", nlohmann::json::array()}};
+  int completed = 0;
   for (int f = frames.first; f <= frames.last; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     if (deforming) update_deforming(g, scene, f);
-    const FrameResult r = render_reference(scene, g, f, width, height);
+    FrameResult r;
+    try {
+      r = render_reference(scene, g, f, width, height);
+    } catch (const Interrupted& e) {
+      throw Interrupted(e.signal(), frames_completed(frames.first, frames.last, completed));
+    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::string exr = (std::filesystem::path(o.out) / frame_name(f, "exr")).string();
     write_exr(exr, r.image);
@@ -80,12 +88,15 @@ int reference(const CommonOptions& o, const Scene& scene) {
                 g.has_bvh() ? ("  " + std::to_string(r.work.total().box_tests) + " box tests").c_str() : "",
                 exr.c_str());
     std::fflush(stdout);
-  }
-  write_atomically((std::filesystem::path(o.out) / "reference.json").string(), [&](const std::string& tmp) {
-    std::ofstream out(tmp);
-    out << stats.dump(1) << "\n";
+    // After every frame, so that a stopped run leaves the statistics of every frame it wrote.
+    write_atomically((std::filesystem::path(o.out) / "reference.json").string(), [&](const std::string& tmp) {
+      std::ofstream out(tmp);
+      out << stats.dump(1) << "\n";
+      out.close();  // a failed flush (disk full) must not be renamed into place
     if (!out) throw std::runtime_error("cannot write " + tmp);
-  });
+    });
+    ++completed;
+  }
   return 0;
 }
 

@@ -97,8 +97,15 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
     simulate<T>(job, geometry);
     return 0;
   }
+  // An exception out of sc_main would be reported by SystemC as "uncaught exception" (E549):
+  // carry it out of the kernel and rethrow it here, for main to report.
+  std::exception_ptr failure;
   g_simulation = [&] {
-    simulate<T>(job, geometry);
+    try {
+      simulate<T>(job, geometry);
+    } catch (...) {
+      failure = std::current_exception();
+    }
     return 0;
   };
   // SystemC reports become exceptions (caught in main), never an abort.
@@ -109,6 +116,7 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
   char* argv[] = {arg0, nullptr};
   const int rc = sc_core::sc_elab_and_sim(1, argv);
   g_simulation = nullptr;
+  if (failure) std::rethrow_exception(failure);
   return rc;
 }
 
@@ -126,6 +134,7 @@ int run_render(const RenderOptions& o) {
   job.height = scene.height;
   parse_resolution(o.resolution, job.width, job.height);
   job.frames = parse_frames(o.frames, scene);
+  check_motions(scene, job.frames.first, job.frames.last);
   job.out_dir = o.out;
   job.vcd_path = o.vcd;
   job.progress = o.progress && ::isatty(2);

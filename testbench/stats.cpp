@@ -107,6 +107,7 @@ void StatsWriter::add(const FrameStats& f) {
   write_atomically((dir / "stats.json").string(), [&](const std::string& tmp) {
     std::ofstream out(tmp);
     out << doc.dump(1) << "\n";
+    out.close();  // a failed flush (disk full) must not be renamed into place
     if (!out) throw std::runtime_error("cannot write " + tmp);
   });
   write_atomically((dir / "stats.csv").string(), [&](const std::string& tmp) {
@@ -120,6 +121,7 @@ void StatsWriter::add(const FrameStats& f) {
             << u.cycles.sphere << ',' << u.cycles.transform << ',' << u.cycles.primitive << ',' << u.idle << ','
             << u.cycles.stall << ',' << u.cycles.busy() << ',' << x.makespan << ',' << x.efficiency() << ','
             << u.cycles.box << '\n';
+    out.close();  // a failed flush (disk full) must not be renamed into place
     if (!out) throw std::runtime_error("cannot write " + tmp);
   });
 }

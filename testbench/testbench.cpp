@@ -3,7 +3,9 @@
 #include "frame_output.h"
 #include "gtkwave.h"
 #include "policy_driver.h"
+#include "hw/watchdog.h"
 #include "ref/frame_setup.h"
+#include "ref/stop.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -77,16 +79,30 @@ class Testbench : public sc_module {
       previous_ = collect();
       const FrameStats fs = frame_stats(*previous_, job_, geometry_, f, seconds_since(t0), image);
       finish_frame(job_, stats_.get(), fs, std::move(image));
-      if (vcd_) vcd_->flush_before(sc_time_stamp().value());
+      last_frame_end_ = sc_time_stamp().value();
+      if (vcd_) vcd_->flush_before(last_frame_end_);
     }
-    if (vcd_) {
-      vcd_->close(sc_time_stamp().value());
-      const auto vcd = std::filesystem::path(job_.vcd_path);
-      std::vector<TraceSignal> signals;
-      for (const auto& [name, width] : vcd_->variables()) signals.push_back({name, width});
-      write_gtkwave_save(job_.vcd_path, (vcd.parent_path() / (vcd.stem().string() + ".gtkw")).string(), signals,
-                         sc_time_stamp().value());
-    }
+    close_trace(sc_time_stamp().value());
+  }
+
+ public:
+  // After a stop request ended the simulation mid-frame: the trace ends with the last
+  // completed frame (without one, the destructor removes the partial trace).
+  void stopped() {
+    if (job_.completed == 0 || !vcd_) return;
+    vcd_->discard_from(last_frame_end_);
+    close_trace(last_frame_end_);
+  }
+
+ private:
+  void close_trace(std::uint64_t end_ps) {
+    if (!vcd_) return;
+    vcd_->close(end_ps);
+    const auto vcd = std::filesystem::path(job_.vcd_path);
+    std::vector<TraceSignal> signals;
+    for (const auto& [name, width] : vcd_->variables()) signals.push_back({name, width});
+    write_gtkwave_save(job_.vcd_path, (vcd.parent_path() / (vcd.stem().string() + ".gtkw")).string(), signals,
+                       end_ps);
   }
 
   void reset_stats() {
@@ -135,6 +151,7 @@ class Testbench : public sc_module {
   SceneGeometry<T>& geometry_;
   const bool deforming_ = has_deforming(*job_.scene);
   int frame_ = 0;
+  std::uint64_t last_frame_end_ = 0;  // ps
   std::unique_ptr<VcdWriter> vcd_;
   std::unique_ptr<hw::Engine<T>> engine_;
   std::unique_ptr<StatsWriter> stats_;
@@ -152,6 +169,8 @@ void run_analytic(RenderJob& job, SceneGeometry<T>& geometry) {
   if (job.write_files) stats = std::make_unique<StatsWriter>(job.out_dir, job.header);
   std::optional<hw::FrameRun> previous;
   for (int f = job.frames.first; f <= job.frames.last; ++f) {
+    if (const int s = stop_signal())
+      throw Interrupted(s, frames_completed(job.frames.first, job.frames.last, job.completed));
     const auto t0 = std::chrono::steady_clock::now();
     if (deforming) update_deforming(geometry, *job.scene, f);
     job.assignment = policy.for_frame(f, previous ? &*previous : nullptr);
@@ -177,6 +196,14 @@ void simulate(RenderJob& job, SceneGeometry<T>& geometry) {
   Testbench<T> tb("testbench", job, geometry);
   sc_start();
   if (job.error) std::rethrow_exception(job.error);
+  if (const int s = stop_signal()) {
+    tb.stopped();
+    throw Interrupted(s, frames_completed(job.frames.first, job.frames.last, job.completed));
+  }
+  if (job.completed != job.frames.count())
+    hw::check_deadlock("frame " + std::to_string(job.frames.first + job.completed) + " is unfinished (" +
+                       std::to_string(job.completed) + " of " + std::to_string(job.frames.count()) +
+                       " frames completed)");
   if (job.completed != job.frames.count())
     throw std::runtime_error("simulation ended after " + std::to_string(job.completed) + " of " +
                              std::to_string(job.frames.count()) + " frames");

@@ -1,6 +1,7 @@
 #include "hw/gpp.h"
 
 #include "ref/camera.h"
+#include "ref/stop.h"
 
 #include <algorithm>
 
@@ -46,8 +47,10 @@ void Gpp<T>::run() {
   for (;;) {
     wait(request_);
     clock_.resync();
+    in_frame_ = true;
     if (command_->setup_only) load_memories();
     else render_frame(*command_);
+    in_frame_ = false;
     clock_.sync();
     done_.notify();
   }
@@ -92,6 +95,7 @@ void Gpp<T>::wait_for_space_or_answers(bool want_space, const sc_time* deadline)
     return;
   }
   const int full = want_space ? full_fifo() : -1;
+  waiting_on_fifo_ = full;
   if (deadline && full >= 0) wait(*deadline - sc_time_stamp(), answered_ | fifos[full]->freed_event());
   else if (deadline) wait(*deadline - sc_time_stamp(), answered_);
   else if (full >= 0) wait(answered_ | fifos[full]->freed_event());
@@ -265,6 +269,10 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   // something earlier turns up.
   const sc_time never = sc_max_time();
   for (;;) {
+    if (stop_signal()) {  // SIGINT / SIGTERM: abandon the frame; the testbench says what completed
+      sc_stop();
+      wait(abandoned_);  // never notified
+    }
     const bool work = !shadow_queue_.empty() || next_pixel < pixels;
     const bool room = work && full_fifo() < 0;
     const sc_time due = completed_.empty() ? never : completed_.top().at;
@@ -290,6 +298,25 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     wait_for_space_or_answers(work && !room, next == never ? nullptr : &next);
   }
   stats_.end = clock_.now();
+}
+
+template <typename T>
+std::string Gpp<T>::waiting_for() const {
+  if (!in_frame_) return "idle, waiting for a frame command";
+  if (command_->setup_only) return "loading object memories";
+  std::string s = "frame " + std::to_string(command_->frame) + ": " + std::to_string(issued_) + " rays issued, " +
+                  std::to_string(retired_) + " retired; waiting for answers";
+  if (waiting_on_fifo_ >= 0) {
+    const auto* f = dynamic_cast<const sc_object*>(fifos[waiting_on_fifo_]);
+    s += " or for room in " + std::string(f ? f->name() : "a FIFO") + " (" + fifos[waiting_on_fifo_]->fill_state() + ")";
+  }
+  for (std::size_t id = 0; id < pending_.size(); ++id)
+    if (pending_[id].answers_left) {
+      s += "; oldest ray in flight " + std::to_string(id) + " has " + std::to_string(units_ - pending_[id].answers_left) +
+           " of " + std::to_string(units_) + " answers";
+      break;
+    }
+  return s;
 }
 
 template class Gpp<float>;

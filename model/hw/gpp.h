@@ -16,6 +16,7 @@
 #include "hw/payloads.h"
 #include "hw/ray_fifo.h"
 #include "hw/vcd_writer.h"
+#include "hw/watchdog.h"
 #include "ref/image.h"
 #include "ref/shading.h"
 
@@ -40,7 +41,7 @@ struct GppStats {
 };
 
 template <typename T>
-class Gpp : public sc_core::sc_module {
+class Gpp : public sc_core::sc_module, public Waiter {
  public:
   tlm_utils::simple_target_socket<Gpp> host;   // frame commands
   tlm_utils::simple_target_socket<Gpp> hits;   // answers from the units (via the bus)
@@ -56,6 +57,7 @@ class Gpp : public sc_core::sc_module {
   const GppStats& stats() const { return stats_; }
   // Called now and then during a frame with (primary rays retired, pixels): for progress bars.
   void on_progress(std::function<void(std::uint64_t, std::uint64_t)> f) { progress_ = std::move(f); }
+  std::string waiting_for() const override;
 
  private:
   struct Pixel {
@@ -96,7 +98,7 @@ class Gpp : public sc_core::sc_module {
 
   // Frame state.
   const FrameCommand* command_ = nullptr;
-  sc_core::sc_event request_, done_, answered_;
+  sc_core::sc_event request_, done_, answered_, abandoned_;
   std::vector<Pending> pending_;
   std::vector<Pixel> pixels_;
   // Rays whose answers are all in, by (completion time, ray id): the GPP handles them in
@@ -116,6 +118,10 @@ class Gpp : public sc_core::sc_module {
   std::uint64_t primaries_retired_ = 0, pixel_count_ = 0;
   VcdWriter* vcd_;
   int vcd_in_flight_ = -1, vcd_frame_ = -1;
+  // For the watchdog (plain stores): in a frame, and what it waits for (-1: answers only,
+  // else also room in that FIFO).
+  bool in_frame_ = false;
+  int waiting_on_fifo_ = -1;
 };
 
 extern template class Gpp<float>;

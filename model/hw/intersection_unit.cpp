@@ -83,9 +83,12 @@ void IntersectionUnit<T>::run() {
         continue;
       }
       if (vcd_) trace_state(UnitState::idle, clock_.now());
+      activity_ = Activity::waiting_for_ray;
       wait(fifo->pushed_event());
       clock_.resync();
     }
+    activity_ = Activity::tracing;
+    ray_ = e.ray;
     clock_.advance_to(e.avail);
     const RayRecord<T>& r = rays_[e.ray];
     const int kind = static_cast<int>(r.kind);
@@ -124,6 +127,7 @@ void IntersectionUnit<T>::run() {
     if (sync_on_bus_) clock_.sync();  // bus.lt_arbitration = sync (bus.h)
     sc_time delay = clock_.offset();
     const sc_time sim = sc_time_stamp();
+    activity_ = Activity::answering;
     bus->b_transport(answer_, delay);
     if (answer_.is_response_error()) SC_REPORT_FATAL(name(), "answer to the GPP failed");
     clock_.advance_to(sim + delay);  // decoupled: the transfer's end; at: already waited
@@ -132,6 +136,18 @@ void IntersectionUnit<T>::run() {
     stats_.cycles.stall += bus_cycles;
     stats_.last_answer = after;
   }
+}
+
+template <typename T>
+std::string IntersectionUnit<T>::waiting_for() const {
+  const auto* f = dynamic_cast<const sc_object*>(fifo.get_interface());
+  const std::string its_fifo = "its FIFO " + std::string(f ? f->name() : "?") + " " + fifo->fill_state();
+  switch (activity_) {
+    case Activity::waiting_for_ray: return "waiting for a ray; " + its_fifo;
+    case Activity::tracing: return "tracing ray " + std::to_string(ray_) + "; " + its_fifo;
+    case Activity::answering: return "waiting for the bus to take its answer to ray " + std::to_string(ray_) + "; " + its_fifo;
+  }
+  return its_fifo;
 }
 
 template class IntersectionUnit<float>;

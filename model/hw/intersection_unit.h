@@ -15,6 +15,7 @@
 #include "hw/ray_fifo.h"
 #include "hw/unit_cycles.h"
 #include "hw/vcd_writer.h"
+#include "hw/watchdog.h"
 
 #include <systemc>
 #include <tlm>
@@ -33,7 +34,7 @@ struct UnitStats {
 };
 
 template <typename T>
-class IntersectionUnit : public sc_core::sc_module {
+class IntersectionUnit : public sc_core::sc_module, public Waiter {
  public:
   tlm_utils::simple_target_socket<IntersectionUnit> cfg;    // configuration registers (from the bus)
   tlm_utils::simple_initiator_socket<IntersectionUnit> bus;  // answers to the GPP
@@ -48,6 +49,7 @@ class IntersectionUnit : public sc_core::sc_module {
   const IuRegisters<T>& registers() const { return regs_; }
   UnitStats& stats() { return stats_; }
   void reset_stats();
+  std::string waiting_for() const override;
 
  private:
   void run();
@@ -68,6 +70,9 @@ class IntersectionUnit : public sc_core::sc_module {
   tlm::tlm_generic_payload answer_, read_;
   VcdWriter* vcd_;
   int vcd_state_ = -1;
+  // For the watchdog: what the process is doing (plain stores, no events).
+  enum class Activity : std::uint8_t { waiting_for_ray, tracing, answering } activity_ = Activity::waiting_for_ray;
+  std::uint32_t ray_ = 0;
 };
 
 extern template class IntersectionUnit<float>;

@@ -28,7 +28,9 @@ void RayFifo::b_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   }
   // Only reachable when a writer ignores the full flag: the write then waits for room,
   // holding whatever it holds (the bus). See the deadlock test.
+  ++writes_waiting_;
   while (!has_space()) wait(freed_);
+  --writes_waiting_;
   const std::uint32_t id = *reinterpret_cast<const std::uint32_t*>(p.get_data_ptr());
   const sc_time at = sc_time_stamp() + delay;
   queue_.push_back({id, at});
@@ -37,6 +39,15 @@ void RayFifo::b_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   trace(at);
   pushed_.notify();
   p.set_response_status(tlm::TLM_OK_RESPONSE);
+}
+
+std::string RayFifo::fill_state() const {
+  std::string s = "holds " + std::to_string(queue_.size()) + " rays";
+  if (depth_ == 0) s += " (unbounded)";
+  else s += " of " + std::to_string(depth_) + (has_space() ? "" : " (full)");
+  if (!queue_.empty()) s += ", next ray " + std::to_string(queue_.front().ray);
+  if (writes_waiting_) s += "; a write waits for room";
+  return s;
 }
 
 bool RayFifo::pop(RayEntry& e, const sc_time& at) {

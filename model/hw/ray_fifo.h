@@ -5,6 +5,7 @@
 #pragma once
 
 #include "hw/vcd_writer.h"
+#include "hw/watchdog.h"
 
 #include <cstdint>
 #include <deque>
@@ -31,9 +32,10 @@ class RayFifoIf : public virtual sc_core::sc_interface {
   virtual sc_core::sc_time space_time() const = 0;
   virtual const sc_core::sc_event& freed_event() const = 0;
   virtual std::size_t occupancy() const = 0;
+  virtual std::string fill_state() const = 0;  // "holds 2 rays of 2 (full), ...": for the watchdog
 };
 
-class RayFifo : public sc_core::sc_module, public RayFifoIf {
+class RayFifo : public sc_core::sc_module, public RayFifoIf, public Waiter {
  public:
   tlm_utils::simple_target_socket<RayFifo> in;
 
@@ -47,6 +49,9 @@ class RayFifo : public sc_core::sc_module, public RayFifoIf {
   std::size_t occupancy() const override { return queue_.size(); }
   std::size_t peak_occupancy() const { return peak_; }
   void reset_peak() { peak_ = queue_.size(); }
+  int depth() const { return depth_; }
+  std::string fill_state() const override;
+  std::string waiting_for() const override { return fill_state(); }
 
  private:
   void b_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
@@ -57,6 +62,7 @@ class RayFifo : public sc_core::sc_module, public RayFifoIf {
   std::uint64_t pushes_ = 0, pops_ = 0;
   std::vector<sc_core::sc_time> pop_time_;  // ring of the last `depth` pop times
   std::size_t peak_ = 0;
+  int writes_waiting_ = 0;
   sc_core::sc_event pushed_, freed_;
   VcdWriter* vcd_;
   int vcd_var_ = -1;

@@ -110,6 +110,11 @@ std::vector<std::pair<std::string, int>> VcdWriter::variables() const {
   return n;
 }
 
+void VcdWriter::discard_from(std::uint64_t t) {
+  buffer_.erase(std::remove_if(buffer_.begin(), buffer_.end(), [&](const Change& c) { return c.time >= t; }),
+                buffer_.end());
+}
+
 void VcdWriter::close(std::uint64_t end_ps) {
   flush_before(~0ULL);
   if (written_time_ == ~0ULL || end_ps > written_time_) out_ << '#' << end_ps << '\n';

@@ -22,6 +22,8 @@ class VcdWriter {
   void change(int var, std::uint64_t time_ps, std::uint64_t value);
   // Write every buffered change before `horizon_ps`.
   void flush_before(std::uint64_t horizon_ps);
+  // Forget buffered changes at or after t_ps (a frame abandoned when the run was stopped).
+  void discard_from(std::uint64_t t_ps);
   // Write everything, end the dump at end_ps, and move the file into place.
   void close(std::uint64_t end_ps);
   const std::string& path() const { return path_; }

@@ -1,6 +1,7 @@
 #include "ref/reference.h"
 
 #include "ref/camera.h"
+#include "ref/stop.h"
 
 #include <numeric>
 
@@ -34,6 +35,7 @@ FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int 
   std::vector<Ray<T>> shadow;
   std::vector<std::uint8_t> occluded;
   for (int y = 0; y < height; ++y) {
+    throw_if_stopped();
     for (int x = 0; x < width; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * width + x;
       const Ray<T> ray = camera.ray<T>(x, y);

@@ -3,6 +3,7 @@
 // "FILE: PLACE: PROBLEM" and exits with status 2.
 #pragma once
 
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
@@ -25,5 +26,16 @@ class InputError : public std::runtime_error {
   }
   std::string file_, place_, problem_;
 };
+
+// Every file a loader opens must be a regular file: a directory would read as empty, a
+// device such as /dev/zero would be read until memory runs out, a pipe would block.
+inline void require_regular_file(const std::string& path, const std::string& place = "") {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (ec || st.type() == std::filesystem::file_type::not_found) throw InputError(path, place, "no such file");
+  if (st.type() == std::filesystem::file_type::directory) throw InputError(path, place, "is a directory, not a file");
+  if (st.type() != std::filesystem::file_type::regular)
+    throw InputError(path, place, "is not a regular file (a device, pipe or socket)");
+}
 
 }  // namespace oprt

@@ -179,42 +179,63 @@ Mesh lathe(const std::vector<std::pair<double, double>>& profile, std::uint32_t 
   return m;
 }
 
-Mesh generate_from_json(const JsonIn& g) {
+Mesh generate_from_json(const JsonIn& g, std::uint64_t max_triangles) {
   const std::string kind = g.at("kind").string();
   auto count = [&](const char* key, long long lo, long long def) {
     return static_cast<std::uint32_t>(g.integer_or(key, def, lo, 1 << 24));
   };
   auto positive = [&](const char* key, double def) { return g.number_or(key, def, 1e-30, 1e30); };
+  // The closed formulas of generate.h, in 64 bits (each factor is below 2^24).
+  auto affordable = [&](std::uint64_t triangles) {
+    if (triangles > max_triangles)
+      g.fail("this generator would make " + std::to_string(triangles) + " triangles, more than the " +
+             std::to_string(max_triangles) + " the scene may still have");
+  };
+  using U = std::uint64_t;
   if (kind == "triangle_cloud") {
     g.only_keys({"kind", "count", "radius", "size", "seed"});
     const double radius = positive("radius", 1), size = positive("size", 0.1);
     if (!(size < radius)) g.at("size").fail("size must be smaller than radius");
-    return triangle_cloud(count("count", 1, 1024), radius, size,
-                          static_cast<std::uint64_t>(g.integer_or("seed", 1, 0, 1LL << 62)));
+    const std::uint32_t n = count("count", 1, 1024);
+    affordable(n);
+    return triangle_cloud(n, radius, size, static_cast<std::uint64_t>(g.integer_or("seed", 1, 0, 1LL << 62)));
   }
   if (kind == "box") {
     g.only_keys({"kind", "size", "divisions"});
     const Vec3d s = g.vec3_or("size", Vec3d(1));
     if (!(s.x > 0 && s.y > 0 && s.z > 0)) g.at("size").fail("box sizes must be positive");
-    return box(s, count("divisions", 1, 1));
+    const std::uint32_t n = count("divisions", 1, 1);
+    affordable(12 * U(n) * n);
+    return box(s, n);
   }
   if (kind == "sphere") {
     g.only_keys({"kind", "radius", "segments", "rings"});
-    return uv_sphere(positive("radius", 1), count("segments", 3, 16), count("rings", 2, 8));
+    const double r = positive("radius", 1);
+    const std::uint32_t segments = count("segments", 3, 16), rings = count("rings", 2, 8);
+    affordable(2 * U(segments) * (rings - 1));
+    return uv_sphere(r, segments, rings);
   }
   if (kind == "cylinder") {
     g.only_keys({"kind", "radius", "height", "segments", "caps"});
-    return cylinder(positive("radius", 1), positive("height", 1), count("segments", 3, 16),
-                    g.boolean_or("caps", true));
+    const double r = positive("radius", 1), h = positive("height", 1);
+    const std::uint32_t segments = count("segments", 3, 16);
+    const bool caps = g.boolean_or("caps", true);
+    affordable((caps ? 4 : 2) * U(segments));
+    return cylinder(r, h, segments, caps);
   }
   if (kind == "torus") {
     g.only_keys({"kind", "major", "minor", "segments", "sides"});
-    return torus(positive("major", 1), positive("minor", 0.25), count("segments", 3, 32),
-                 count("sides", 3, 12));
+    const double major = positive("major", 1), minor = positive("minor", 0.25);
+    const std::uint32_t segments = count("segments", 3, 32), sides = count("sides", 3, 12);
+    affordable(2 * U(segments) * sides);
+    return torus(major, minor, segments, sides);
   }
   if (kind == "plane") {
     g.only_keys({"kind", "width", "depth", "nx", "nz"});
-    return plane(positive("width", 1), positive("depth", 1), count("nx", 1, 1), count("nz", 1, 1));
+    const double w = positive("width", 1), d = positive("depth", 1);
+    const std::uint32_t nx = count("nx", 1, 1), nz = count("nz", 1, 1);
+    affordable(2 * U(nx) * nz);
+    return plane(w, d, nx, nz);
   }
   if (kind == "lathe") {
     g.only_keys({"kind", "profile", "segments", "cap_first", "cap_last"});
@@ -225,8 +246,10 @@ Mesh generate_from_json(const JsonIn& g) {
       profile.emplace_back(ry[0].number(1e-30, 1e30), ry[1].number());
     }
     if (profile.size() < 2) g.at("profile").fail("a lathe profile needs at least 2 points");
-    return lathe(profile, count("segments", 3, 16), g.boolean_or("cap_first", false),
-                 g.boolean_or("cap_last", false));
+    const std::uint32_t segments = count("segments", 3, 16);
+    const bool first = g.boolean_or("cap_first", false), last = g.boolean_or("cap_last", false);
+    affordable(U(segments) * (2 * (profile.size() - 1) + first + last));
+    return lathe(profile, segments, first, last);
   }
   g.at("kind").fail("unknown generator \"" + kind +
                     "\" (expected triangle_cloud, box, sphere, cylinder, torus, plane or lathe)");

@@ -84,6 +84,7 @@ nlohmann::json JsonIn::parse_text(const std::string& text, const std::string& fi
 }
 
 nlohmann::json JsonIn::parse_file(const std::string& file) {
+  require_regular_file(file);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, "", "cannot open file");
   std::ostringstream ss;

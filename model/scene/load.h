@@ -5,9 +5,19 @@
 #include "scene/aff.h"
 #include "scene/scene.h"
 
+#include <cstdint>
 #include <string>
 
 namespace oprt {
+
+// What an oprt-scene/1 file may ask for, checked before memory is allocated: a few bytes of
+// JSON can ask generators for billions of triangles, or nest "parts" deep enough to
+// overflow the stack. Fuzz targets lower the triangle limit to stay within their memory.
+struct SceneLimits {
+  std::uint64_t triangles = std::uint64_t{1} << 25;  // per scene: 33,554,432
+  int parts_nesting = 32;
+};
+extern SceneLimits scene_limits;
 
 // How formats that need choices are read (today only BART .aff: its tessellation of spheres
 // and cones, and the size above which a group is split into several objects). The command
@@ -23,7 +33,12 @@ Scene load_gltf(const std::string& path);
 Mesh load_obj(const std::string& path);
 
 // Checks shared by every loader: at least one object, every object with triangles, indices
-// in range, finite vertices, materials in range, motions invertible at every frame.
+// in range, finite vertices, materials in range, motions invertible at frame 0.
+// Motions are checked at frame 0 only: a scene may have a million frames of a thousand
+// objects, and checking them all would take minutes before anything is rendered.
 void validate_scene(const Scene& scene);
+// Every object's motion invertible at frames first..last: the renderers check the frames
+// they were asked for before rendering the first.
+void check_motions(const Scene& scene, int first, int last);
 
 }  // namespace oprt

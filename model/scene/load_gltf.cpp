@@ -277,6 +277,7 @@ class GltfReader {
 };
 
 void GltfReader::parse_container() {
+  require_regular_file(file_);
   std::vector<std::uint8_t> bytes;
   if (!read_file_bytes(file_, bytes)) throw InputError(file_, "", "cannot read file");
   // A binary glTF is recognised by its magic, whatever the extension says.

@@ -68,25 +68,37 @@ MotionPtr read_animation(const JsonIn& a) {
   return std::make_shared<KeyframeMotion>(std::move(keys));
 }
 
-Mesh read_mesh(const JsonIn& mj, const std::string& scene_file) {
+// `budget`: the triangles the scene may still have (SceneLimits); `depth`: parts nesting.
+Mesh read_mesh(const JsonIn& mj, const std::string& scene_file, std::uint64_t budget, int depth = 0) {
   if (mj.has("obj")) {
     mj.only_keys({"obj", "transform"});
     const JsonIn o = mj.at("obj");
     const std::string path = relative_to(scene_file, o.string());
     if (!std::filesystem::exists(path)) o.fail("cannot open OBJ file " + path);
-    return load_obj(path);
+    try {
+      require_regular_file(path);
+    } catch (const InputError& e) {
+      o.fail("OBJ file " + path + " " + e.problem());
+    }
+    Mesh m = load_obj(path);
+    if (m.triangles.size() > budget)
+      o.fail("the OBJ file has " + std::to_string(m.triangles.size()) + " triangles, more than the " +
+             std::to_string(budget) + " the scene may still have");
+    return m;
   }
   if (mj.has("generate")) {
     mj.only_keys({"generate", "transform"});
-    return generate_from_json(mj.at("generate"));
+    return generate_from_json(mj.at("generate"), budget);
   }
   if (mj.has("parts")) {
     mj.only_keys({"parts", "transform"});
+    if (depth >= scene_limits.parts_nesting)
+      mj.fail("parts nested more than " + std::to_string(scene_limits.parts_nesting) + " deep");
     Mesh m;
     for (const JsonIn& part : mj.at("parts").items()) {
       const Affine<double> place =
           part.has("transform") ? read_transform(part.at("transform")) : Affine<double>::identity();
-      m.append(read_mesh(part, scene_file), place);
+      m.append(read_mesh(part, scene_file, budget - m.triangles.size(), depth + 1), place);
     }
     return m;
   }
@@ -102,6 +114,8 @@ Mesh read_mesh(const JsonIn& mj, const std::string& scene_file) {
         tri[k] = static_cast<std::uint32_t>(idx[k].integer(0, static_cast<long long>(m.vertices.size()) - 1));
       m.triangles.push_back(tri);
     }
+    if (m.triangles.size() > budget)
+      mj.at("triangles").fail("more triangles than the " + std::to_string(budget) + " the scene may still have");
     return m;
   }
   mj.fail("a mesh needs \"obj\", \"vertices\" and \"triangles\", \"generate\", or \"parts\"");
@@ -179,6 +193,7 @@ Scene load_oprt_json(const std::string& path) {
   }
   const std::uint32_t default_material = static_cast<std::uint32_t>(s.materials.size());
   bool default_used = false;
+  std::uint64_t triangles = 0;  // so far, against scene_limits.triangles
 
   for (const JsonIn& oj : root.at("objects").items()) {
     oj.only_keys({"name", "material", "mesh", "transform", "animation"});
@@ -193,7 +208,8 @@ Scene load_oprt_json(const std::string& path) {
       default_used = true;
     }
     const JsonIn mj = oj.at("mesh");
-    o.mesh = read_mesh(mj, path);
+    o.mesh = read_mesh(mj, path, scene_limits.triangles - triangles);
+    triangles += o.mesh.triangles.size();
     if (auto t = mj.find("transform")) {  // placement of the mesh in its own local frame
       Mesh placed;
       placed.append(o.mesh, read_transform(*t));

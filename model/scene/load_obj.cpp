@@ -1,6 +1,7 @@
 #include "scene/error.h"
 #include "scene/load.h"
 
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -14,38 +15,65 @@ namespace oprt {
 // Polygons are triangulated by tinyobjloader (fan); normals and texture coordinates are not
 // used (shading uses the geometric normal).
 namespace {
-// tinyobjloader reads a coordinate it cannot parse ("nan", "inf", "1e999", "x") as 0 and
-// says nothing: a silently wrong vertex. Check every vertex line first, with its number.
-void check_vertex_lines(const std::string& path) {
-  std::ifstream in(path);
+std::string read_text(const std::string& path) {
+  require_regular_file(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "cannot open file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError(path, "", "cannot read file");
+  return ss.str();
+}
+
+// tinyobjloader reads a coordinate it cannot parse ("nan", "inf", "1e999", "x") as 0 and an
+// index beyond int's range as whatever it wraps to, and says nothing: a silently wrong mesh.
+// Check every vertex and face line first, with its number.
+void check_lines(const std::string& path, const std::string& text) {
+  std::istringstream in(text);
   std::string line;
+  long long vertices = 0;
   for (std::size_t n = 1; std::getline(in, line); ++n) {
-    if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
+    line = line.substr(0, line.find('#'));  // a comment; also drops the \r of a CRLF file
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.size() < 2 || (line[0] != 'v' && line[0] != 'f') || (line[1] != ' ' && line[1] != '\t')) continue;
+    const std::string where = "line " + std::to_string(n);
     std::istringstream fields(line.substr(2));
     std::string tok;
-    for (int k = 0; k < 3; ++k) {
-      if (!(fields >> tok))
-        throw InputError(path, "line " + std::to_string(n), "vertex needs 3 coordinates");
-      char* end = nullptr;
-      const double x = std::strtod(tok.c_str(), &end);
-      if (end == tok.c_str() || *end != '\0')
-        throw InputError(path, "line " + std::to_string(n), "\"" + tok + "\" is not a number");
-      if (!std::isfinite(x))
-        throw InputError(path, "line " + std::to_string(n), "coordinate " + tok + " is not finite");
+    if (line[0] == 'v') {
+      ++vertices;
+      for (int k = 0; k < 3; ++k) {
+        if (!(fields >> tok)) throw InputError(path, where, "vertex needs 3 coordinates");
+        char* end = nullptr;
+        const double x = std::strtod(tok.c_str(), &end);
+        if (end == tok.c_str() || *end != '\0') throw InputError(path, where, "\"" + tok + "\" is not a number");
+        if (!std::isfinite(x)) throw InputError(path, where, "coordinate " + tok + " is not finite");
+      }
+      continue;
+    }
+    while (fields >> tok) {  // "i", "i/t", "i//n", "i/t/n": i is 1-based, or negative from the end
+      const std::string index = tok.substr(0, tok.find('/'));
+      long long i = 0;
+      const auto r = std::from_chars(index.data(), index.data() + index.size(), i);
+      if (r.ec != std::errc() || r.ptr != index.data() + index.size())
+        throw InputError(path, where, "face vertex \"" + tok + "\" is not an index");
+      if (i == 0 || i > vertices || -i > vertices)
+        throw InputError(path, where, "vertex index " + index + " out of range (" + std::to_string(vertices) +
+                                          " vertices before this line)");
     }
   }
 }
 }  // namespace
 
 Mesh load_obj(const std::string& path) {
-  check_vertex_lines(path);
+  const std::string text = read_text(path);
+  check_lines(path, text);
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;
-  config.mtl_search_path = "";
+  // Parsed from memory with no material text: materials are not used, and an `mtllib` line
+  // must not make the reader open another file (one named /dev/zero would never end).
   tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(path, config)) {
+  if (!reader.ParseFromString(text, "", config)) {
     std::string err = reader.Error();
     while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
     throw InputError(path, "", "malformed OBJ: " + (err.empty() ? std::string("parse failed") : err));

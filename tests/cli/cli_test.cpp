@@ -7,10 +7,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -343,4 +345,155 @@ TEST_CASE("cli: compare prints the image difference as JSON, bad input exits 2",
   r = run_oprt("compare " + f + " " + (d / "nothing.exr").string());
   CHECK(r.status == 2);
   CHECK(r.output.find("nothing.exr") != std::string::npos);
+}
+
+namespace {
+// oprt started in the background with stdout on a pipe (read line by line) and stderr in a file.
+struct Child {
+  pid_t pid = -1;
+  FILE* out = nullptr;
+  fs::path err;
+};
+
+Child start_oprt(const std::vector<std::string>& args, const fs::path& err) {
+  int fds[2];
+  REQUIRE(pipe(fds) == 0);
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    dup2(fds[1], 1);
+    if (!std::freopen(err.c_str(), "w", stderr)) _exit(127);
+    close(fds[0]);
+    std::vector<char*> argv;
+    std::string bin = OPRT_BINARY;
+    argv.push_back(bin.data());
+    std::vector<std::string> copy = args;
+    for (std::string& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(bin.c_str(), argv.data());
+    _exit(127);
+  }
+  close(fds[1]);
+  return {pid, fdopen(fds[0], "r"), err};
+}
+
+// Reads stdout until `lines` lines starting with "frame" have appeared.
+void await_frames(Child& c, int lines) {
+  char buf[512];
+  int seen = 0;
+  while (seen < lines && std::fgets(buf, sizeof buf, c.out))
+    if (std::string(buf).rfind("frame", 0) == 0) ++seen;
+  REQUIRE(seen == lines);
+}
+
+int finish(Child& c) {
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, c.out)) {
+  }
+  std::fclose(c.out);
+  int st = 0;
+  waitpid(c.pid, &st, 0);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// What an interrupted run must leave in `out`: every frame file whole and readable, the
+// statistics listing exactly those frames, no temporary files, and nothing else.
+std::vector<int> check_outputs(const fs::path& out, int width, int height, const char* stats_file) {
+  std::vector<int> frames;
+  for (const auto& e : fs::directory_iterator(out)) {
+    const std::string name = e.path().filename().string();
+    CHECK(name[0] != '.');  // no temporary (.NAME.tmpPID) left behind
+    if (name.rfind("frame_", 0) == 0 && e.path().extension() == ".exr") {
+      frames.push_back(std::stoi(name.substr(6, 4)));
+      const oprt::FrameImage img = oprt::read_exr(e.path().string());  // throws if truncated
+      CHECK(img.width == width);
+      CHECK(img.height == height);
+      CHECK(fs::exists(out / (name.substr(0, 10) + ".png")));
+    }
+  }
+  std::sort(frames.begin(), frames.end());
+  std::vector<int> listed;
+  std::ifstream in(out / stats_file);
+  const auto doc = nlohmann::json::parse(in);
+  for (const auto& f : doc["frames"]) listed.push_back(f["frame"].get<int>());
+  CHECK(listed == frames);
+  return frames;
+}
+}  // namespace
+
+TEST_CASE("cli: SIGINT or SIGTERM stops a render cleanly, saying which frames completed", "[cli][signal]") {
+  for (int sig : {SIGINT, SIGTERM}) {
+    const std::string name = sig == SIGINT ? "SIGINT" : "SIGTERM";
+    INFO(name);
+    const fs::path d = temp_dir("signal_" + name);
+    Child c = start_oprt({"render", scene("paper_room.json"), "--frames", "0:59", "--resolution", "24x16", "--ius",
+                          "4", "--no-progress", "--out", (d / "out").string(), "--vcd", (d / "out" / "t.vcd").string()},
+                         d / "err.txt");
+    await_frames(c, 2);
+    kill(c.pid, sig);
+    const int status = finish(c);
+    CHECK(status == 128 + sig);
+    const std::string err = slurp(d / "err.txt");
+    CHECK_THAT(err, Catch::StartsWith("oprt: interrupted by " + name + ": frames 0:"));
+    const std::vector<int> frames = check_outputs(d / "out", 24, 16, "stats.json");
+    REQUIRE(frames.size() >= 2);
+    REQUIRE(frames.size() < 60);
+    const int n = static_cast<int>(frames.size());
+    for (int i = 0; i < n; ++i) CHECK(frames[i] == i);
+    CHECK_THAT(err, Catch::Contains("frames 0:" + std::to_string(n - 1) + " of 0:59 completed; frame " +
+                                    std::to_string(n) + " abandoned"));
+    // The trace covers the completed frames and ends at the last one's end.
+    const std::string vcd = slurp(d / "out" / "t.vcd");
+    CHECK(vcd.find("$enddefinitions") != std::string::npos);
+    const auto last_hash = vcd.rfind("\n#");
+    REQUIRE(last_hash != std::string::npos);
+    CHECK(vcd.find('\n', last_hash + 1) == vcd.size() - 1);  // the final line is the end time
+    CHECK(fs::exists(d / "out" / "t.gtkw"));
+  }
+}
+
+TEST_CASE("cli: SIGINT stops the reference renderer cleanly too", "[cli][signal]") {
+  const fs::path d = temp_dir("signal_reference");
+  Child c = start_oprt({"reference", scene("paper_polygons.json"), "--frames", "0:59", "--resolution", "32x24",
+                        "--out", (d / "out").string()},
+                       d / "err.txt");
+  await_frames(c, 1);
+  kill(c.pid, SIGINT);
+  CHECK(finish(c) == 130);
+  CHECK_THAT(slurp(d / "err.txt"), Catch::StartsWith("oprt: interrupted by SIGINT: frame"));
+  const std::vector<int> frames = check_outputs(d / "out", 32, 24, "reference.json");
+  CHECK(frames.size() >= 1);
+}
+
+TEST_CASE("cli: a render killed outright never leaves a truncated file under a final name", "[cli][signal]") {
+  // SIGKILL cannot be handled: what makes this safe is that every file is written under a
+  // temporary name and renamed when complete.
+  const fs::path d = temp_dir("signal_kill");
+  Child c = start_oprt({"render", scene("paper_room.json"), "--frames", "0:59", "--resolution", "32x32", "--ius", "4",
+                        "--no-progress", "--out", (d / "out").string()},
+                       d / "err.txt");
+  await_frames(c, 2);
+  kill(c.pid, SIGKILL);
+  CHECK(finish(c) == 128 + SIGKILL);
+  std::vector<int> frames;
+  for (const auto& e : fs::directory_iterator(d / "out")) {
+    const std::string name = e.path().filename().string();
+    if (name[0] == '.') {  // a temporary the kill interrupted: hidden, and named as one
+      CHECK(name.find(".tmp") != std::string::npos);
+      continue;
+    }
+    if (e.path().extension() == ".exr") {
+      frames.push_back(std::stoi(name.substr(6, 4)));
+      CHECK(oprt::read_exr(e.path().string()).width == 32);
+    }
+  }
+  std::ifstream in(d / "out" / "stats.json");
+  const auto stats = nlohmann::json::parse(in);  // whole: it parses
+  CHECK(stats["frames"].size() >= 2);
+  CHECK(frames.size() >= stats["frames"].size());  // stats are written after a frame's images
 }

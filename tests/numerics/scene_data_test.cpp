@@ -63,21 +63,28 @@ TEST_CASE("scene data: a matrix whose determinant overflows is refused at load",
 
 TEST_CASE("scene data: finite in double but not in float - refused when the engine runs in float",
           "[numerics][load]") {
-  {  // A vertex beyond float's range (3.4e38).
+  // The loaders refuse coordinates beyond +-1e18 (a float kernel would square them to
+  // infinity); build_geometry<float> still guards against what a program can put into a
+  // Scene directly, past the loaders.
+  {
     TempFile s(scene_json("1e39", "1"), ".json");
-    const Scene scene = load_scene(s.path);
+    expect_input_error([&] { load_scene(s.path); }, "object 0 (\"tri\") vertex 1", "beyond +-1e18");
+  }
+  {  // A vertex beyond float's range (3.4e38).
+    TempFile s(scene_json("1", "1"), ".json");
+    Scene scene = load_scene(s.path);
+    scene.objects[0].mesh.vertices[1] = {1e39, 0, 0};
     expect_input_error([&] { build_geometry<float>(scene, make_spheres(scene, 1)); }, "object 0 (\"tri\") triangle 0",
                        "beyond the range of float precision");
     for (Kernel k : {Kernel::moller, Kernel::watertight})
       expect_input_error([&] { build_geometry<float>(scene, make_spheres(scene, 1), k); }, "triangle 0", "float");
     CHECK_NOTHROW(build_geometry<double>(scene, make_spheres(scene, 1)));
   }
-  {  // Vertices in range whose Moller normal (edge x edge, 1e40) is not; watertight stores
-     // only the vertices.
-    TempFile s(R"({"format": "oprt-scene/1", "camera": {"eye": [0, 0, 5], "target": [0, 0, 0]},
-      "objects": [{"mesh": {"vertices": [[0, 0, 0], [1e20, 0, 0], [0, 1e20, 0]], "triangles": [[0, 1, 2]]}}]})",
-               ".json");
-    const Scene scene = load_scene(s.path);
+  {  // Vertices in float's range whose Moller normal (edge x edge, 1e40) is not; watertight
+     // stores only the vertices.
+    TempFile s(scene_json("1", "1"), ".json");
+    Scene scene = load_scene(s.path);
+    scene.objects[0].mesh.vertices = {{0, 0, 0}, {1e20, 0, 0}, {0, 1e20, 0}};
     expect_input_error([&] { build_geometry<float>(scene, make_spheres(scene, 1), Kernel::moller); }, "triangle 0",
                        "normal");
     CHECK_NOTHROW(build_geometry<float>(scene, make_spheres(scene, 1), Kernel::watertight));
