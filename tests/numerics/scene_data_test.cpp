@@ -12,6 +12,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -22,7 +24,8 @@ namespace {
 struct TempFile {
   std::string path;
   TempFile(const std::string& text, const std::string& ext) {
-    path = (std::filesystem::temp_directory_path() / ("oprt_numerics_" + std::to_string(::rand()) + ext)).string();
+    static int n = 0;  // unique per process and file: ctest runs cases in parallel
+    path = (std::filesystem::temp_directory_path() / ("oprt_numerics_" + std::to_string(::getpid()) + "_" + std::to_string(n++) + ext)).string();
     std::ofstream(path) << text;
   }
   ~TempFile() { std::remove(path.c_str()); }

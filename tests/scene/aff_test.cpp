@@ -14,6 +14,8 @@
 #include <fstream>
 #include <set>
 
+#include <unistd.h>
+
 using namespace oprt;
 
 namespace {
@@ -27,7 +29,10 @@ constexpr double kPi = 3.14159265358979323846;
 struct TempDir {
   fs::path dir;
   TempDir() {
-    dir = fs::temp_directory_path() / ("oprt_aff_test_" + std::to_string(::rand()) + "_" + std::to_string(::rand()));
+    // Unique per process and per directory: ctest runs test cases in parallel processes,
+    // and ::rand() would give every process the same name.
+    static int n = 0;
+    dir = fs::temp_directory_path() / ("oprt_aff_test_" + std::to_string(::getpid()) + "_" + std::to_string(n++));
     fs::create_directories(dir);
   }
   ~TempDir() {

@@ -3,6 +3,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -16,7 +18,8 @@ const std::string kData = std::string(OPRT_SOURCE_DIR) + "/tests/data/scenes/";
 struct TempScene {
   std::string path;
   explicit TempScene(const std::string& text, const std::string& ext = ".json") {
-    path = (std::filesystem::temp_directory_path() / ("oprt_scene_test_" + std::to_string(::rand()) + ext)).string();
+    static int n = 0;  // unique per process and file: ctest runs cases in parallel
+    path = (std::filesystem::temp_directory_path() / ("oprt_scene_test_" + std::to_string(::getpid()) + "_" + std::to_string(n++) + ext)).string();
     std::ofstream(path) << text;
   }
   ~TempScene() { std::remove(path.c_str()); }
