@@ -38,7 +38,7 @@ const Assignment& PolicyDriver<T>::for_frame(int f, const hw::FrameRun* previous
     // Most tests exit early: the mean of the stage costs is a fair single number.
     m.triangle_cycles = 0;
     for (auto c : arch_.kernel_costs().tri_stage) m.triangle_cycles += c / double(kTriStages);
-    w = view_weights(world, prims, setup.camera, width_, height_, scene_.lights, m);
+    w = view_weights(world, prims, setup.camera, width_, height_, setup.lights, m);
   }
   current_ = keep_in_place(assign_weighted(w, current_.units()), current_, bytes_);
   return current_;

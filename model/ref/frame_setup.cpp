@@ -65,6 +65,8 @@ FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int fra
   }
   const double margin = 64 * static_cast<double>(std::numeric_limits<T>::epsilon()) * magnitude;
   f.world_sphere.resize(g.sphere_count());
+  f.lights = scene.lights;
+  for (PointLight& l : f.lights) l.position = l.at(frame);
   // Visibility comes with the frame's animation like the matrices (BART's visibility keys).
   f.visible.resize(g.sphere_count());
   for (std::uint32_t s = 0; s < g.sphere_count(); ++s)

@@ -17,6 +17,7 @@ struct FrameSetup {
   std::vector<Affine<T>> to_local;      // per object, as the IU registers hold it
   std::vector<Sphere<T>> world_sphere;  // per sphere
   std::vector<char> visible;            // per sphere: its object takes part in this frame
+  std::vector<PointLight> lights;       // the scene's lights where they are in this frame
 };
 
 // Throws InputError if an object's matrix at this frame is not invertible, or if what the

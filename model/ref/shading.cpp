@@ -109,7 +109,7 @@ ShadeState<T> Shader<T>::prepare(const Ray<T>& primary, const HitRecord<T>& hit,
   const Vec3d view = -glm::normalize(Vec3d(primary.d));
   if (dot3(n, view) < 0) n = -n;  // two-sided: shade the side the ray sees
   s.color = scene_.ambient * mat.diffuse;
-  for (const PointLight& light : scene_.lights) {
+  for (const PointLight& light : frame_.lights) {
     const Vec3d to_light = light.position - p;
     const double dist = std::sqrt(dot3(to_light, to_light));
     if (!(dist > 0)) continue;

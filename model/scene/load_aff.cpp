@@ -1081,15 +1081,20 @@ Scene AffReader::read(const std::string& path) {
   s.camera = cam ? CameraPathPtr(std::make_shared<AffCamera>(view_->camera, cam, clock_))
                  : CameraPathPtr(std::make_shared<FixedCamera>(view_->camera));
 
-  // Lights. An animated light keeps one position: its animation's translation at frame 0
-  // (the written position if it has no translation keys). Scene lights do not move.
+  // Lights. An animated light (`la NAME`) is where its keyframes' translation puts it, frame
+  // by frame (BART: the light sits at the origin of its transform); without translation
+  // keys it stays at its written position.
   for (const LightDef& l : lights_) {
     PointLight p = l.light;
     if (!l.anim.empty()) {
       const AnimPtr a = find_anim(l.anim);
       if (a) used_anims.insert(l.anim);
-      if (a && a->transl) p.position = a->transl->at(clock_.time(0));
-      note("animated light '" + l.anim + "' held at its frame-0 position");
+      if (a && a->transl) {
+        p.position = Vec3d(0);
+        p.motion = std::make_shared<AffMotion>(std::vector<Link>{{Affine<double>::identity(), a}}, clock_);
+      } else {
+        note("animated light '" + l.anim + "' has no translation keys: it stays where it is written");
+      }
     }
     s.lights.push_back(p);
   }

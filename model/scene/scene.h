@@ -21,6 +21,8 @@ struct Material {
 struct PointLight {
   Vec3d position{0};
   Vec3d color{1};
+  MotionPtr motion;  // an animated light (BART's la): at frame f it is at motion(f) position
+  Vec3d at(double frame) const { return motion ? motion->at(frame).point(position) : position; }
 };
 
 // Pinhole camera: eye looking at target, up fixing the roll, fov_y_deg the full vertical

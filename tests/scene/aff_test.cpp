@@ -276,9 +276,9 @@ TEST_CASE("aff: every construct loads with its known contents", "[aff]") {
   CHECK(c4.up.y == Approx(1));
   CHECK(c0.fov_y_deg == 40);
 
-  // The animated light stays at its frame-0 position (the translation's first key).
+  // The animated light is at its translation keys' position: (3, 3, 3) at t = 0.
   REQUIRE(s.lights.size() == 1);
-  CHECK(s.lights[0].position == Vec3d(3, 3, 3));
+  CHECK(s.lights[0].at(0) == Vec3d(3, 3, 3));
 
   CHECK(has_note(s, "textures ignored"));
   CHECK(has_note(s, "vertex normals ignored"));
@@ -292,7 +292,14 @@ TEST_CASE("aff: every construct loads with its known contents", "[aff]") {
   CHECK(hidden.motion->visible(2));
   CHECK(hidden.motion->visible(4));
   CHECK(outer.motion->visible(1));
-  CHECK(has_note(s, "animated light 'lamp'"));
+  // The animated light `la lamp` follows its translation keys: (3, 3, 3) at t = 0, (7, 3, 3)
+  // at t = 4, moving along x in between; frame f is t = f.
+  REQUIRE(s.lights.size() == 1);
+  CHECK(s.lights[0].at(0).x == Approx(3));
+  CHECK(s.lights[0].at(0).y == Approx(3));
+  CHECK(s.lights[0].at(4).x == Approx(7));
+  CHECK(s.lights[0].at(4).z == Approx(3));
+  for (int f = 0; f < 4; ++f) CHECK(s.lights[0].at(f + 1).x > s.lights[0].at(f).x);
   CHECK(std::count_if(s.notes.begin(), s.notes.end(),
                       [](const std::string& n) { return n.find("textures") != std::string::npos; }) == 1);
 }
@@ -315,6 +322,36 @@ TEST_CASE("aff: a group hidden by visibility keys is absent from the frame and c
     // The sphere is not in the registers while hidden: no sphere test at all.
     CHECK((r.work.total().sphere_tests == 0) == !shown);
   }
+}
+
+TEST_CASE("aff: an animated light lights each frame from where its keys put it", "[aff]") {
+  // A white plane z = 0 lit by one light, no ambient, no specular: a pixel's red is the
+  // diffuse cosine, dot(n, normalize(light - p)) (model/ref/shading.cpp), with the light
+  // moving from (0, 0, 1) at t = 0 to (8, 0, 1) at t = 4.
+  TempDir d;
+  const std::string path = d.write("lamp.aff", std::string(kView) +
+                                                   "a 0 4 5\nam 0 0 0\nla lamp 0 0 0\nf 1 1 1 1 0 1 0 1\n"
+                                                   "p 4\n-9 -9 0\n9 -9 0\n9 9 0\n-9 9 0\n"
+                                                   "k lamp\n{\ntransl 4\n-1 0 0 1 0 0 0\n0 0 0 1 0 0 0\n"
+                                                   "4 8 0 1 0 0 0\n5 8 0 1 0 0 0\n}\n");
+  const Scene s = load_scene(path);
+  const auto g = build_geometry<double>(s, make_spheres(s, 1));
+  for (int f : {0, 2, 4}) {
+    INFO("frame " << f);
+    const FrameResult r = render_reference(s, g, f, 8, 8);
+    const Vec3d light = s.lights.at(0).at(f);
+    const CameraRays rays(s.camera->at(f), 8, 8);
+    for (int px : {1, 4, 6}) {
+      const std::size_t i = 4 * 8 + px;
+      REQUIRE(r.image.object[i] == 0);
+      const Ray<double> ray = rays.ray<double>(px, 4);
+      const Vec3d p = ray.o + static_cast<double>(r.image.z[i]) * ray.d;
+      const Vec3d l = glm::normalize(light - p);
+      CHECK(r.image.r[i] == Approx(l.z).epsilon(1e-5));
+    }
+  }
+  CHECK(s.lights[0].at(0).x == Approx(0));
+  CHECK(s.lights[0].at(4).x == Approx(8));
 }
 
 TEST_CASE("aff: includes resolve relative to the including file", "[aff]") {
