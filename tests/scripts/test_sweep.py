@@ -365,6 +365,21 @@ class TestPlots(SweepTestCase):
             ["bars.png", "scaling_paper_room.png", "effect_ray_fifo_depth_paper_room.png",
              "effect_bus_bytes_per_cycle_paper_room.png"]))
 
+        # --table: a row per IU count, a column per (FIFO depth, bus bandwidth), each cell the
+        # point's makespan in million cycles and efficiency, as in aggregate.csv.
+        r = subprocess.run([sys.executable, PLOT, os.path.join(self.out, "aggregate.csv"), "--out", plots, "--table"],
+                           capture_output=True, text=True)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        lines = [l for l in r.stdout.splitlines() if l.startswith("|")]
+        header = [c.strip() for c in lines[0].strip("|").split("|")]
+        self.assertEqual(header[0], "ius")
+        self.assertEqual(len(header), 1 + 6)
+        col = header.index("FIFO 4, bus 8 B/cycle")
+        row = next(l for l in lines[2:] if l.split("|")[1].strip() == "2")
+        cell = row.strip("|").split("|")[col].strip()
+        point = next(p for p in rows if p["ius"] == "2" and p["ray_fifo_depth"] == "4" and p["bus.bytes_per_cycle"] == "8")
+        self.assertEqual(cell, f"{float(point['makespan_cycles']) / 1e6:.1f} ({float(point['parallel_efficiency']):.2f})")
+
         r = subprocess.run([sys.executable, PLOT, os.path.join(self.out, "aggregate.csv"), "--out", plots,
                             "--bars", "ius=3"], capture_output=True, text=True)
         self.assertNotEqual(r.returncode, 0)
