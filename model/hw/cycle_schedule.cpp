@@ -100,27 +100,29 @@ const OpGraph& sphere_stable_graph() {
   return g;
 }
 
+namespace {
+// One component of a matrix-vector product: 3 multiplies and 2 adds, a third add for the
+// translation of a point. `exit` marks the last add (-1: none).
+void push_row(OpGraph& g, const std::string& out, bool translate, int exit) {
+  g.ops.push_back(mul(out + "0"));
+  g.ops.push_back(mul(out + "1"));
+  g.ops.push_back(mul(out + "2"));
+  g.ops.push_back(add(out + "01", {out + "0", out + "1"}));
+  if (translate) {
+    g.ops.push_back(add(out + "012", {out + "01", out + "2"}));
+    g.ops.push_back(add(out, {out + "012"}, exit));
+  } else {
+    g.ops.push_back(add(out, {out + "01", out + "2"}, exit));
+  }
+}
+}  // namespace
+
 // o' = L o + t (3 x (3 multiplies, 3 adds)), d' = L d (3 x (3 multiplies, 2 adds)).
 const OpGraph& transform_graph() {
   static const OpGraph g = [] {
     OpGraph t{"ray transform into the local frame", {"done"}, {}};
-    for (const char* r : {"x", "y", "z"}) {
-      const std::string o = std::string("o'") + r;
-      t.ops.push_back(mul(o + "0"));
-      t.ops.push_back(mul(o + "1"));
-      t.ops.push_back(mul(o + "2"));
-      t.ops.push_back(add(o + "01", {o + "0", o + "1"}));
-      t.ops.push_back(add(o + "012", {o + "01", o + "2"}));
-      t.ops.push_back(add(o, {o + "012"}, 0));
-    }
-    for (const char* r : {"x", "y", "z"}) {
-      const std::string d = std::string("d'") + r;
-      t.ops.push_back(mul(d + "0"));
-      t.ops.push_back(mul(d + "1"));
-      t.ops.push_back(mul(d + "2"));
-      t.ops.push_back(add(d + "01", {d + "0", d + "1"}));
-      t.ops.push_back(add(d, {d + "01", d + "2"}, 0));
-    }
+    for (const char* r : {"x", "y", "z"}) push_row(t, std::string("o'") + r, true, 0);
+    for (const char* r : {"x", "y", "z"}) push_row(t, std::string("d'") + r, false, 0);
     return t;
   }();
   return g;
@@ -155,30 +157,14 @@ const OpGraph& moller_graph() {
 // The transform as the watertight kernel needs it: the same 18 multiplies and 15 adds, d'
 // first, then the choice of the ray's dominant axis kz = argmax |d'| (two comparisons on the
 // adder, absolute values are free), which the triangle test uses to permute coordinates
-// (routing, free). The adder has slack while the multiplier works on o', so the choice
-// costs no cycle: 19, as Table 1.
+// (routing, free). Computing d' first delays o' by a cycle: 20, one more than Table 1.
 const OpGraph& transform_watertight_graph() {
   static const OpGraph g = [] {
     OpGraph t{"ray transform into the local frame, with the dominant axis (watertight)", {"done"}, {}};
-    for (const char* r : {"x", "y", "z"}) {
-      const std::string d = std::string("d'") + r;
-      t.ops.push_back(mul(d + "0"));
-      t.ops.push_back(mul(d + "1"));
-      t.ops.push_back(mul(d + "2"));
-      t.ops.push_back(add(d + "01", {d + "0", d + "1"}));
-      t.ops.push_back(add(d, {d + "01", d + "2"}));
-    }
+    for (const char* r : {"x", "y", "z"}) push_row(t, std::string("d'") + r, false, -1);
     t.ops.push_back(add("|d'x|-|d'y|", {"d'x", "d'y"}));
     t.ops.push_back(add("max-|d'z|", {"|d'x|-|d'y|", "d'z"}, 0));
-    for (const char* r : {"x", "y", "z"}) {
-      const std::string o = std::string("o'") + r;
-      t.ops.push_back(mul(o + "0"));
-      t.ops.push_back(mul(o + "1"));
-      t.ops.push_back(mul(o + "2"));
-      t.ops.push_back(add(o + "01", {o + "0", o + "1"}));
-      t.ops.push_back(add(o + "012", {o + "01", o + "2"}));
-      t.ops.push_back(add(o, {o + "012"}, 0));
-    }
+    for (const char* r : {"x", "y", "z"}) push_row(t, std::string("o'") + r, true, 0);
     return t;
   }();
   return g;
