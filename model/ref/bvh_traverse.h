@@ -38,13 +38,14 @@ inline std::uint8_t* log_leaf(std::vector<std::uint8_t>* log, std::uint32_t coun
   return log->data() + log->size() - count;
 }
 
-// Nearest hit in sphere s; `w` gets one box set-up, the box tests and the triangle tests.
-template <typename T>
-BlockHit<T> nearest_in_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const Ray<T>& ray, WorkCounts& w,
-                           std::vector<std::uint8_t>* log) {
+// The walk both ray kinds share: near child first, a node entered if its box meets the ray
+// before limit() (the ray's extent, or the best hit so far), leaf(node) called on each leaf
+// entered; it returns true to stop the walk (a shadow ray's first occluder).
+template <typename T, typename Limit, typename Leaf>
+void walk_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const Ray<T>& ray, WorkCounts& w,
+              std::vector<std::uint8_t>* log, Limit&& limit, Leaf&& leaf) {
   if (log) log->clear();
-  BlockHit<T> best;
-  if (mem.nodes_in(s) == 0) return best;
+  if (mem.nodes_in(s) == 0) return;
   const BoxRay<T> br = box_ray(ray);
   ++w.box_setups;
   std::array<std::uint32_t, kBvhMaxDepth> stack;
@@ -54,7 +55,7 @@ BlockHit<T> nearest_in_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const R
     const BvhNode<T>& n = mem.nodes[node];
     ++w.box_tests;
     log_node(log);
-    if (hit_box(br, n.box, best.valid() ? best.t : ray.tmax)) {
+    if (hit_box(br, n.box, limit())) {
       if (!n.leaf()) {
         // The first child holds the lower centroids along the axis: the near side unless
         // the ray runs towards lower values.
@@ -63,47 +64,40 @@ BlockHit<T> nearest_in_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const R
         node = second_first ? n.offset : node + 1;
         continue;
       }
-      std::uint8_t* l = log_leaf(log, n.count);
-      const BlockHit<T> h = nearest_in_block(mem.tris, n.offset, n.offset + n.count, ray, w.tri_stage, &w.tri_hits, l);
-      if (h.valid() && (h.t < best.t || (h.t == best.t && mem.prim[h.index] < mem.prim[best.index]))) best = h;
+      if (leaf(n)) return;
     }
-    if (top == 0) return best;
+    if (top == 0) return;
     node = stack[--top];
   }
+}
+
+// Nearest hit in sphere s; `w` gets one box set-up, the box tests and the triangle tests.
+template <typename T>
+BlockHit<T> nearest_in_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const Ray<T>& ray, WorkCounts& w,
+                           std::vector<std::uint8_t>* log) {
+  BlockHit<T> best;
+  walk_bvh(mem, s, ray, w, log, [&] { return best.valid() ? best.t : ray.tmax; }, [&](const BvhNode<T>& n) {
+    std::uint8_t* l = log_leaf(log, n.count);
+    const BlockHit<T> h = nearest_in_block(mem.tris, n.offset, n.offset + n.count, ray, w.tri_stage, &w.tri_hits, l);
+    if (h.valid() && (h.t < best.t || (h.t == best.t && mem.prim[h.index] < mem.prim[best.index]))) best = h;
+    return false;
+  });
+  return best;
 }
 
 // Any hit in (0, tmax) in sphere s: stops at the first occluder found.
 template <typename T>
 bool any_in_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const Ray<T>& ray, WorkCounts& w,
                 std::vector<std::uint8_t>* log) {
-  if (log) log->clear();
-  if (mem.nodes_in(s) == 0) return false;
-  const BoxRay<T> br = box_ray(ray);
-  ++w.box_setups;
-  std::array<std::uint32_t, kBvhMaxDepth> stack;
-  int top = 0;
-  std::uint32_t node = mem.first_node[s];
-  for (;;) {
-    const BvhNode<T>& n = mem.nodes[node];
-    ++w.box_tests;
-    log_node(log);
-    if (hit_box(br, n.box, ray.tmax)) {
-      if (!n.leaf()) {
-        const bool second_first = br.neg[n.axis];
-        stack[top++] = second_first ? node + 1 : n.offset;
-        node = second_first ? n.offset : node + 1;
-        continue;
-      }
-      std::uint8_t* l = log_leaf(log, n.count);
-      const std::uint64_t before = w.tri_tests();
-      if (any_in_block(mem.tris, n.offset, n.offset + n.count, ray, w.tri_stage, &w.tri_hits, l)) {
-        if (log) log->resize(log->size() - n.count + (w.tri_tests() - before));  // the tests not made
-        return true;
-      }
-    }
-    if (top == 0) return false;
-    node = stack[--top];
-  }
+  bool occluded = false;
+  walk_bvh(mem, s, ray, w, log, [&] { return ray.tmax; }, [&](const BvhNode<T>& n) {
+    std::uint8_t* l = log_leaf(log, n.count);
+    const std::uint64_t before = w.tri_tests();
+    occluded = any_in_block(mem.tris, n.offset, n.offset + n.count, ray, w.tri_stage, &w.tri_hits, l);
+    if (occluded && log) log->resize(log->size() - n.count + (w.tri_tests() - before));  // the tests not made
+    return occluded;
+  });
+  return occluded;
 }
 
 }  // namespace oprt
