@@ -7,60 +7,57 @@
 #include "geom/triangle.h"
 #include "geom/watertight.h"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
 namespace oprt {
 
+// A triangle format's Vec3 fields, in stream order (what object memory stores per triangle).
 template <typename T>
-struct MollerSoA {
-  // v0, e1, e2, n: 12 streams.
-  std::vector<T> c[12];
+std::array<Vec3<T>*, 4> fields(MollerTriangle<T>& t) {
+  return {&t.v0, &t.e1, &t.e2, &t.n};
+}
+template <typename T>
+std::array<Vec3<T>*, 3> fields(WatertightTriangle<T>& t) {
+  return {&t.v0, &t.v1, &t.v2};
+}
+
+// Structure of arrays of a format of N Vec3 fields: 3 N streams of T.
+template <typename T, typename Tri, int N>
+struct Vec3SoA {
+  std::vector<T> c[3 * N];
 
   std::size_t size() const { return c[0].size(); }
   void reserve(std::size_t n) {
     for (auto& s : c) s.reserve(n);
   }
-  void push_back(const MollerTriangle<T>& t) {
-    const Vec3<T>* v[4] = {&t.v0, &t.e1, &t.e2, &t.n};
-    for (int k = 0; k < 4; ++k)
-      for (int j = 0; j < 3; ++j) c[3 * k + j].push_back((*v[k])[j]);
+  void push_back(Tri t) {
+    const auto f = fields(t);
+    for (int k = 0; k < N; ++k)
+      for (int j = 0; j < 3; ++j) c[3 * k + j].push_back((*f[k])[j]);
   }
-  MollerTriangle<T> operator[](std::size_t i) const {
-    return {{c[0][i], c[1][i], c[2][i]}, {c[3][i], c[4][i], c[5][i]},
-            {c[6][i], c[7][i], c[8][i]}, {c[9][i], c[10][i], c[11][i]}};
+  Tri operator[](std::size_t i) const {
+    Tri t;
+    const auto f = fields(t);
+    for (int k = 0; k < N; ++k) *f[k] = {c[3 * k][i], c[3 * k + 1][i], c[3 * k + 2][i]};
+    return t;
   }
-  void write(std::size_t i, const MollerTriangle<T>& t) {
-    const Vec3<T>* v[4] = {&t.v0, &t.e1, &t.e2, &t.n};
-    for (int k = 0; k < 4; ++k)
-      for (int j = 0; j < 3; ++j) c[3 * k + j][i] = (*v[k])[j];
+  void write(std::size_t i, Tri t) {
+    const auto f = fields(t);
+    for (int k = 0; k < N; ++k)
+      for (int j = 0; j < 3; ++j) c[3 * k + j][i] = (*f[k])[j];
   }
+};
+
+template <typename T>
+struct MollerSoA : Vec3SoA<T, MollerTriangle<T>, 4> {  // v0, e1, e2, n
   TriangleHit<T> intersect(const Ray<T>& ray, std::size_t i) const { return intersect_moller(ray, (*this)[i]); }
 };
 
 template <typename T>
-struct WatertightSoA {
-  // v0, v1, v2: 9 streams.
-  std::vector<T> c[9];
-
-  std::size_t size() const { return c[0].size(); }
-  void reserve(std::size_t n) {
-    for (auto& s : c) s.reserve(n);
-  }
-  void push_back(const WatertightTriangle<T>& t) {
-    const Vec3<T>* v[3] = {&t.v0, &t.v1, &t.v2};
-    for (int k = 0; k < 3; ++k)
-      for (int j = 0; j < 3; ++j) c[3 * k + j].push_back((*v[k])[j]);
-  }
-  WatertightTriangle<T> operator[](std::size_t i) const {
-    return {{c[0][i], c[1][i], c[2][i]}, {c[3][i], c[4][i], c[5][i]}, {c[6][i], c[7][i], c[8][i]}};
-  }
-  void write(std::size_t i, const WatertightTriangle<T>& t) {
-    const Vec3<T>* v[3] = {&t.v0, &t.v1, &t.v2};
-    for (int k = 0; k < 3; ++k)
-      for (int j = 0; j < 3; ++j) c[3 * k + j][i] = (*v[k])[j];
-  }
+struct WatertightSoA : Vec3SoA<T, WatertightTriangle<T>, 3> {  // v0, v1, v2
   TriangleHit<T, WtStage> intersect(const WatertightRay<T>& ray, std::size_t i) const {
     return intersect_watertight(ray, (*this)[i]);
   }
