@@ -22,12 +22,11 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   fs.image_hash = image.hash();
   fs.sphere_cycles.assign(geometry.sphere_count(), 0);
   fs.sphere_entries.assign(geometry.sphere_count(), {});
-  for (const hw::UnitRun& r : run.units)
-    for (int k = 0; k < kRayKinds; ++k)
-      for (std::uint32_t s = 0; s < geometry.sphere_count(); ++s) {
-        fs.sphere_cycles[s] += hw::work_cycles(r.per_sphere[k][s], job.arch.costs, job.arch.kernel).busy();
-        fs.sphere_entries[s][k] += r.per_sphere[k][s].transforms;
-      }
+  for (int k = 0; k < kRayKinds; ++k)
+    for (std::uint32_t s = 0; s < geometry.sphere_count(); ++s) {
+      fs.sphere_cycles[s] += hw::work_cycles(run.per_sphere[k][s], job.arch.costs, job.arch.kernel).busy();
+      fs.sphere_entries[s][k] += run.per_sphere[k][s].transforms;
+    }
   for (std::size_t u = 0; u < run.units.size(); ++u) {
     const hw::UnitRun& r = run.units[u];
     UnitFrameStats us;
@@ -39,7 +38,7 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
     const std::uint64_t used = r.cycles.busy() + r.cycles.stall;
     us.idle = fs.makespan > used ? fs.makespan - used : 0;
     for (int k = 0; k < kRayKinds; ++k)
-      for (std::uint32_t s : us.spheres) us.work[k] += r.per_sphere[k][s];
+      for (std::uint32_t s : us.spheres) us.work[k] += run.per_sphere[k][s];
     us.memory_bytes = r.memory_bytes;
     fs.units.push_back(std::move(us));
   }

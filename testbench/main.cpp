@@ -6,6 +6,7 @@
 // Any bad input ends with one message "oprt: FILE: PLACE: PROBLEM" and exit status 2.
 #include "commands.h"
 #include "render.h"
+#include "ref/parallel.h"
 #include "ref/stop.h"
 #include "scene/error.h"
 
@@ -18,6 +19,11 @@ int main(int argc, char** argv) {
   CLI::App app{"oprt: a SystemC/TLM-2.0 model of an object-parallel ray-tracing engine for animated scenes"};
   app.require_subcommand(1);
   CommonOptions opt;
+  int threads = 0;  // 0: every core
+  auto add_threads = [&threads](CLI::App* sub) {
+    sub->add_option("--threads", threads, "threads for the functional work (default: every core)")
+        ->check(CLI::Range(1, 4096));
+  };
 
   auto add_scene = [&](CLI::App* sub) {
     sub->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)")->required();
@@ -51,12 +57,14 @@ int main(int argc, char** argv) {
   ref->add_option("--out", opt.out, "output directory");
   ref->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
   ref->add_option("--accel", opt.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
+  add_threads(ref);
   add_load_options(ref, opt.load);
 
   std::string compare_image, compare_reference;
   auto* compare = app.add_subcommand("compare", "print how far a frame is from a reference frame (JSON)");
   compare->add_option("IMAGE", compare_image, "frame_NNNN.exr to judge")->required();
   compare->add_option("REFERENCE", compare_reference, "frame_NNNN.exr of the same size to judge it against")->required();
+  add_threads(compare);
 
   RenderOptions ro;
   auto* render = app.add_subcommand("render", "render with the timed SystemC model");
@@ -76,6 +84,7 @@ int main(int argc, char** argv) {
   render->add_option("--out", ro.out, "output directory");
   render->add_option("--vcd", ro.vcd, "write a VCD trace to this file");
   render->add_flag("!--no-progress", ro.progress, "no progress bar");
+  add_threads(render);
   add_load_options(render, ro.load);
 
   try {
@@ -87,6 +96,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   install_stop_handlers();
+  set_thread_count(threads);
   try {
     if (*info) return run_info(opt);
     if (*ref) return run_reference(opt);

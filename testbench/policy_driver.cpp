@@ -20,10 +20,9 @@ const Assignment& PolicyDriver<T>::for_frame(int f, const hw::FrameRun* previous
   if (arch_.balance == "feedback") {
     if (!previous) return current_;  // the first frame: sa_n, the initial assignment
     w.assign(geom_.sphere_count(), 0);
-    for (const hw::UnitRun& u : previous->units)
-      for (int k = 0; k < kRayKinds; ++k)
-        for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s)
-          w[s] += static_cast<double>(hw::work_cycles(u.per_sphere[k][s], arch_.costs, arch_.kernel).busy());
+    for (int k = 0; k < kRayKinds; ++k)
+      for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s)
+        w[s] += static_cast<double>(hw::work_cycles(previous->per_sphere[k][s], arch_.costs, arch_.kernel).busy());
   } else {
     const FrameSetup<T> setup = setup_frame(scene_, geom_, f);
     std::vector<Sphere<double>> world;

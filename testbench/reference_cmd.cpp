@@ -2,6 +2,7 @@
 #include "balance/spheres.h"
 #include "commands.h"
 #include "options.h"
+#include "ref/parallel.h"
 #include "ref/reference.h"
 #include "ref/stop.h"
 #include "scene/load.h"
@@ -50,6 +51,7 @@ int reference(const CommonOptions& o, const Scene& scene) {
                           {"spheres", g.sphere_count()},
                           {"triangles", scene.triangle_count()},
                           {"build_s", build_s},
+                          {"threads", thread_count()},
                           {"frames", nlohmann::json::array()}};
   int completed = 0;
   for (int f = frames.first; f <= frames.last; ++f) {

@@ -1,6 +1,7 @@
 #include "render.h"
 
 #include "balance/policy.h"
+#include "ref/parallel.h"
 #include "ref/scene_geometry.h"
 #include "scene/error.h"
 #include "scene/load.h"
@@ -88,7 +89,8 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
                 {"spheres", spheres.size()},
                 {"units", units},
                 {"resolution", {job.width, job.height}},
-                {"arch", to_json(job.arch)}};
+                {"arch", to_json(job.arch)},
+                {"threads", thread_count()}};
   job.header["load_options"] = {{"aff_max_object_triangles", o.load.aff.max_object_triangles},
                                 {"aff_sphere_segments", o.load.aff.sphere_segments},
                                 {"aff_sphere_rings", o.load.aff.sphere_rings},

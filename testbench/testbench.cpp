@@ -131,10 +131,10 @@ class Testbench : public sc_module {
       hw::UnitRun r;
       r.cycles = s.cycles;
       r.rays = s.rays[0] + s.rays[1];
-      for (int k = 0; k < kRayKinds; ++k) r.per_sphere[k] = s.per_sphere[k];
       r.memory_bytes = engine_->memory(u).bytes_read();
-      run.units.push_back(std::move(r));
+      run.units.push_back(r);
     }
+    run.per_sphere = engine_->functional().per_sphere;
     return run;
   }
 

@@ -1,7 +1,7 @@
 // The analytic level: no SystemC process per ray. Each unit's work on a ray comes from the
-// same functional traversal as at every other level (so busy cycles are identical by
-// construction); time comes from a recurrence over the order in which rays enter the
-// FIFOs, which is the order the GPP issues them:
+// same functional trace as at every other level (functional_frame.h, so busy cycles are
+// identical by construction); time comes from a recurrence over the order in which rays
+// enter the FIFOs, which is the order the GPP issues them:
 //   a unit starts ray k at max(when it finished its previous ray, when ray k arrived),
 //   a ray completes when its last answer arrives, and the GPP handles completions in
 //   (time, ray) order with the same priorities as the SystemC GPP (answers, then pending
@@ -16,6 +16,7 @@
 #include "balance/assign.h"
 #include "hw/arch.h"
 #include "hw/calendar.h"
+#include "hw/functional_frame.h"
 #include "hw/payloads.h"
 #include "hw/unit_cycles.h"
 #include "scene/scene.h"
@@ -28,7 +29,6 @@ namespace oprt::hw {
 struct UnitRun {
   UnitCycles cycles;
   std::uint64_t rays = 0;
-  std::vector<WorkCounts> per_sphere[kRayKinds];
   std::uint64_t memory_bytes = 0;
 };
 
@@ -38,6 +38,7 @@ struct FrameRun {
   std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0, memory_load_bytes = 0;
   std::uint64_t memory_load_cycles = 0;  // bus time of the geometry moved in (0 on an ideal bus)
   std::vector<UnitRun> units;
+  std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere], whichever unit did it
 };
 
 template <typename T>
@@ -56,6 +57,7 @@ class AnalyticEngine {
   const SceneGeometry<T>& geom_;
   const Arch& arch_;
   std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
+  FunctionalFrame<T> frame_;
 };
 
 extern template class AnalyticEngine<float>;

@@ -75,7 +75,8 @@ nlohmann::json stage_costs_json(const KernelCosts& c) {
 Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   const JsonIn root(doc, file);
   root.only_keys({"format", "comment", "clock_mhz", "ius", "costs", "ray_fifo_depth", "bus", "memory", "gpp",
-                  "level", "quantum", "balance", "subdivide", "split_rule", "accel", "kernel", "precision"});
+                  "level", "quantum", "balance", "subdivide", "split_rule", "accel", "kernel", "precision",
+                  "sync_every_ray"});
   const std::string format = root.at("format").string();
   if (format != "oprt-arch/1") root.at("format").fail("unsupported format \"" + format + "\" (expected oprt-arch/1)");
   Arch a;
@@ -123,6 +124,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   if (auto v = root.find("accel")) a.accel = one_of(*v, {"brute", "bvh"});
   if (auto v = root.find("kernel")) a.kernel = *kernel_named(one_of(*v, {"moller", "watertight"}));
   if (auto v = root.find("precision")) a.precision = one_of(*v, {"float", "double"});
+  a.sync_every_ray = root.boolean_or("sync_every_ray", a.sync_every_ray);
   return a;
 }
 
@@ -150,7 +152,8 @@ nlohmann::json to_json(const Arch& a) {
           {"split_rule", a.split_rule},
           {"accel", a.accel},
           {"kernel", to_string(a.kernel)},
-          {"precision", a.precision}};
+          {"precision", a.precision},
+          {"sync_every_ray", a.sync_every_ray}};
 }
 
 }  // namespace oprt

@@ -55,6 +55,10 @@ struct Arch {
   std::string accel = "brute";
   Kernel kernel = Kernel::moller;
   std::string precision = "float";
+  // Simulation only: make every unit wait out each ray in simulation time even where
+  // nothing can observe the difference (local_clock.h, `ahead`). Tests use it to show that
+  // skipping those waits changes no figure.
+  bool sync_every_ray = false;
 
   double cycle_ns() const { return 1000.0 / clock_mhz; }
   // The costs of the kernel this run uses.

@@ -28,16 +28,21 @@ void Bus::map(std::uint64_t base, std::uint64_t size, std::vector<int> targets) 
       (at != regions_.begin() && std::prev(at)->base + std::prev(at)->size > base))
     SC_REPORT_FATAL(name(), "overlapping address regions");
   regions_.insert(at, {base, size, std::move(targets)});
+  last_ = ~std::size_t{0};
 }
 
 void Bus::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
   const std::uint64_t a = p.get_address();
-  auto it = std::upper_bound(regions_.begin(), regions_.end(), a,
-                             [](std::uint64_t x, const Region& r) { return x < r.base; });
-  const Region* r = it == regions_.begin() ? nullptr : &*std::prev(it);
-  if (!r || a - r->base >= r->size) {
-    p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
-    return;
+  const Region* r = last_ < regions_.size() ? &regions_[last_] : nullptr;  // most transfers repeat the last region
+  if (!r || a < r->base || a - r->base >= r->size) {
+    auto it = std::upper_bound(regions_.begin(), regions_.end(), a,
+                               [](std::uint64_t x, const Region& g) { return x < g.base; });
+    r = it == regions_.begin() ? nullptr : &*std::prev(it);
+    if (!r || a - r->base >= r->size) {
+      p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
+      return;
+    }
+    last_ = static_cast<std::size_t>(r - regions_.data());
   }
   ++transfers_;
   bytes_ += p.get_data_length();

@@ -64,6 +64,7 @@ class Bus : public sc_core::sc_module {
   const int bytes_per_cycle_, arbitration_cycles_;
   const sc_core::sc_time cycle_;
   std::vector<Region> regions_;
+  std::size_t last_ = ~std::size_t{0};  // index of the region the last transfer went to
   Arbiter<sc_core::sc_time> arbiter_;
   std::uint64_t busy_cycles_ = 0, transfers_ = 0, bytes_ = 0;
   VcdWriter* vcd_;

@@ -11,7 +11,7 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
                   std::size_t units, VcdWriter* vcd)
     : sc_module(name), host("host") {
   const bool decoupled = arch.level == Level::lt;
-  gpp_ = std::make_unique<Gpp<T>>("gpp", scene, geometry, arch, rays_, vcd);
+  gpp_ = std::make_unique<Gpp<T>>("gpp", scene, geometry, arch, frame_, vcd);
   bus_ = std::make_unique<Bus>("bus", arch, decoupled, vcd);
   host.bind(gpp_->host);
   gpp_->bus.bind(bus_->in);
@@ -22,8 +22,7 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
     const std::string n = std::to_string(i);
     fifos_.push_back(std::make_unique<RayFifo>(("fifo" + n).c_str(), arch.fifo_depth, vcd));
     memories_.push_back(std::make_unique<ObjectMemory>(("memory" + n).c_str(), arch, geometry.sphere_count()));
-    units_.push_back(std::make_unique<IntersectionUnit<T>>(("iu" + n).c_str(), static_cast<int>(i), arch, geometry,
-                                                           rays_, vcd));
+    units_.push_back(std::make_unique<IntersectionUnit<T>>(("iu" + n).c_str(), static_cast<int>(i), arch, frame_, vcd));
     IntersectionUnit<T>& u = *units_.back();
     u.bus.bind(bus_->in);
     u.mem.bind(memories_.back()->read);

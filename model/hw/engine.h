@@ -47,9 +47,10 @@ class Engine : public sc_core::sc_module {
   IntersectionUnit<T>& unit(std::size_t i) { return *units_[i]; }
   RayFifo& fifo(std::size_t i) { return *fifos_[i]; }
   ObjectMemory& memory(std::size_t i) { return *memories_[i]; }
+  const FunctionalFrame<T>& functional() const { return frame_; }
 
  private:
-  std::vector<RayRecord<T>> rays_;
+  FunctionalFrame<T> frame_;  // the frame's traced work: written by the GPP, read by the units
   std::unique_ptr<Gpp<T>> gpp_;
   std::unique_ptr<Bus> bus_;
   std::vector<std::unique_ptr<IntersectionUnit<T>>> units_;

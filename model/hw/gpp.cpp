@@ -11,7 +11,7 @@ using namespace sc_core;
 
 template <typename T>
 Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
-            std::vector<RayRecord<T>>& rays, VcdWriter* vcd)
+            FunctionalFrame<T>& frame, VcdWriter* vcd)
     : sc_module(name),
       host("host"),
       hits("hits"),
@@ -20,9 +20,9 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
       scene_(scene),
       geom_(geometry),
       arch_(arch),
-      rays_(rays),
+      frame_(frame),
       cycle_(arch.cycle_ns(), SC_NS),
-      clock_(arch.level == Level::lt),
+      clock_(arch.level == Level::lt ? LocalClock::Mode::quantum : LocalClock::Mode::exact),
       sync_on_bus_(arch.bus.model == BusModel::shared && arch.bus.lt_arbitration == LtArbitration::sync),
       vcd_(vcd) {
   host.register_b_transport(this, &Gpp::host_transport);
@@ -96,10 +96,12 @@ void Gpp<T>::wait_for_space_or_answers(bool want_space, const sc_time* deadline)
   }
   const int full = want_space ? full_fifo() : -1;
   waiting_on_fifo_ = full;
+  wake_before_ = deadline ? *deadline : sc_max_time();
   if (deadline && full >= 0) wait(*deadline - sc_time_stamp(), answered_ | fifos[full]->freed_event());
   else if (deadline) wait(*deadline - sc_time_stamp(), answered_);
   else if (full >= 0) wait(answered_ | fifos[full]->freed_event());
   else wait(answered_);
+  wake_before_ = SC_ZERO_TIME;
   // Units finishing in the same time step answer within its first delta cycle: let them
   // all arrive, so that simultaneous completions are handled in ray order.
   wait(SC_ZERO_TIME);
@@ -111,6 +113,7 @@ void Gpp<T>::wait_for_space_or_answers(bool want_space, const sc_time* deadline)
 template <typename T>
 sc_time Gpp<T>::room_time() const {
   sc_time t = clock_.now();
+  if (arch_.fifo_depth == 0) return t;
   for (int i = 0; i < fifos.size(); ++i) t = std::max(t, fifos[i]->space_time());
   return t;
 }
@@ -121,22 +124,14 @@ void Gpp<T>::trace_in_flight() {
 }
 
 template <typename T>
-std::uint32_t Gpp<T>::new_ray(const Ray<T>& ray, RayKind kind, std::uint32_t pixel) {
-  rays_.push_back({ray, kind, pixel, 0});
-  pending_.emplace_back();
-  completed_at_.push_back(SC_ZERO_TIME);
-  return static_cast<std::uint32_t>(rays_.size() - 1);
-}
-
-template <typename T>
 void Gpp<T>::issue(std::uint32_t id) {
   clock_.advance_to(room_time());  // as at `at`: room first, then the ray is generated
   clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_ray));
   pending_[id].answers_left = units_;
   ++issued_;
-  ++stats_.rays[static_cast<int>(rays_[id].kind)];
+  ++stats_.rays[static_cast<int>(frame_.rays[id].kind)];
   trace_in_flight();
-  RayPacket<T> packet{id, &rays_[id]};
+  RayPacket<T> packet{id, &frame_.rays[id]};
   write(addr::broadcast_rays, &packet, Bytes<T>::ray);
 }
 
@@ -153,47 +148,51 @@ void Gpp<T>::hit_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   completed_at_[a->ray] = std::max(completed_at_[a->ray], sc_time_stamp() + delay);
   if (--r.answers_left == 0) {
     completed_.push({completed_at_[a->ray], a->ray});
-    answered_.notify();
+    // Wake the GPP only if it waits for something later than this completion (a unit
+    // running ahead answers long before the answer is due; the GPP's deadline covers it).
+    if (completed_at_[a->ray] < wake_before_) answered_.notify();
   }
   p.set_response_status(tlm::TLM_OK_RESPONSE);
 }
 
+// A pixel's colour is the traced one; the GPP checked every answer that went into it.
 template <typename T>
-void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd, const Shader<T>& shader) {
+void Gpp<T>::finish_pixel(std::uint32_t pixel, FrameImage& img) const {
+  img.r[pixel] = frame_.image.r[pixel];
+  img.g[pixel] = frame_.image.g[pixel];
+  img.b[pixel] = frame_.image.b[pixel];
+}
+
+template <typename T>
+void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
   clock_.advance_to(completed_at_[id]);
-  const RayRecord<T> rec = rays_[id];
+  const RayRecord<T>& rec = frame_.rays[id];
   const Pending& pr = pending_[id];
   FrameImage& img = *cmd.image;
-  Pixel& px = pixels_[rec.pixel];
   ++retired_;
-  auto finish = [&](const Vec3d& c) {
-    img.r[rec.pixel] = static_cast<float>(c.x);
-    img.g[rec.pixel] = static_cast<float>(c.y);
-    img.b[rec.pixel] = static_cast<float>(c.z);
-  };
   if (rec.kind == RayKind::primary) {
     if (progress_ && (++primaries_retired_ & 4095) == 0) progress_(primaries_retired_, pixel_count_);
+    const std::uint32_t p = rec.pixel;
+    // The merged answers must be the traced nearest hit: the units' answers are the
+    // functional work's, so anything else is a fault in the model's plumbing.
+    if (pr.hit.valid() != (frame_.image.object[p] != kNone) ||
+        (pr.hit.valid() && (pr.hit.object != frame_.image.object[p] || pr.hit.prim != frame_.image.prim[p] ||
+                            static_cast<float>(pr.hit.t) != frame_.image.z[p])))
+      SC_REPORT_FATAL(name(), ("ray " + std::to_string(id) + ": the units' answers disagree with the functional trace").c_str());
     if (!pr.hit.valid()) {
-      finish(shader.background());
+      finish_pixel(p, img);
     } else {
       clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_hit));
-      std::vector<Ray<T>> shadow;
-      px.shade = shader.prepare(rec.ray, pr.hit, shadow);
-      img.z[rec.pixel] = static_cast<float>(pr.hit.t);
-      img.object[rec.pixel] = pr.hit.object;
-      img.prim[rec.pixel] = pr.hit.prim;
-      px.shadow_left = static_cast<std::uint32_t>(shadow.size());
-      px.occluded.assign(shadow.size(), 0);
-      for (std::uint32_t k = 0; k < shadow.size(); ++k) {
-        const std::uint32_t s = new_ray(shadow[k], RayKind::shadow, rec.pixel);
-        rays_[s].slot = k;
-        shadow_queue_.push_back(s);
-      }
-      if (shadow.empty()) finish(shader.finish(px.shade, nullptr));
+      img.z[p] = static_cast<float>(pr.hit.t);
+      img.object[p] = pr.hit.object;
+      img.prim[p] = pr.hit.prim;
+      const std::uint32_t first = id + 1, end = frame_.pixel_rays[p + 1];
+      shadow_left_[p] = end - first;
+      for (std::uint32_t s = first; s < end; ++s) shadow_queue_.push_back(s);
+      if (first == end) finish_pixel(p, img);
     }
-  } else {
-    px.occluded[rec.slot] = pr.occluded ? 1 : 0;
-    if (--px.shadow_left == 0) finish(shader.finish(px.shade, px.occluded.data()));
+  } else if (--shadow_left_[rec.pixel] == 0) {
+    finish_pixel(rec.pixel, img);
   }
   trace_in_flight();
 }
@@ -240,23 +239,25 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     write(addr::iu_window(static_cast<int>(u)) + addr::iu_config, &packet, bytes);
   }
 
+  // The frame's functional work, on every thread the pool allows (functional_frame.h).
+  const CameraRays camera(cmd.camera, cmd.width, cmd.height);
+  const Shader<T> shader(scene_, setup);
+  try {
+    trace_functional(frame_, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height);
+  } catch (const Interrupted&) {  // SIGINT / SIGTERM: abandon the frame; the testbench says what completed
+    sc_stop();
+    wait(abandoned_);  // never notified
+  }
+
   const std::size_t pixels = static_cast<std::size_t>(cmd.width) * cmd.height;
-  const std::size_t max_rays = pixels * (1 + scene_.lights.size());
-  rays_.clear();
-  rays_.reserve(max_rays);  // units read records by reference: never reallocate mid-frame
-  pending_.clear();
-  pending_.reserve(max_rays);
-  completed_at_.clear();
-  completed_at_.reserve(max_rays);
-  pixels_.assign(pixels, Pixel{});
+  pending_.assign(frame_.ray_count(), Pending{});
+  completed_at_.assign(frame_.ray_count(), SC_ZERO_TIME);
+  shadow_left_.assign(pixels, 0);
   completed_ = {};
   shadow_queue_.clear();
   issued_ = retired_ = 0;
   primaries_retired_ = 0;
   pixel_count_ = pixels;
-
-  const CameraRays camera(cmd.camera, cmd.width, cmd.height);
-  const Shader<T> shader(scene_, setup);
   std::size_t next_pixel = 0;
   // The GPP's next work item, at either level: the earlier of (a) handling an answered
   // ray, due when its last answer arrived, and (b) writing the next ray (a shadow ray
@@ -283,15 +284,13 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
       if (due <= ready) {
         const std::uint32_t id = completed_.top().ray;
         completed_.pop();
-        retire(id, cmd, shader);
+        retire(id, cmd);
       } else if (!shadow_queue_.empty()) {
         const std::uint32_t id = shadow_queue_.front();
         shadow_queue_.pop_front();
         issue(id);
       } else {
-        const int x = static_cast<int>(next_pixel % cmd.width), y = static_cast<int>(next_pixel / cmd.width);
-        issue(new_ray(camera.ray<T>(x, y), RayKind::primary, static_cast<std::uint32_t>(next_pixel)));
-        ++next_pixel;
+        issue(frame_.pixel_rays[next_pixel++]);
       }
       continue;
     }

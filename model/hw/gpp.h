@@ -9,9 +9,14 @@
 // whose answers are all in (cycles_per_hit for a primary hit), issuing a pending shadow ray,
 // and issuing the next primary ray (cycles_per_ray each). It starts a ray write only when
 // every ray FIFO has room, so a full FIFO never holds the bus.
+//
+// What it computes (which rays a pixel needs, the shading, the colours) was traced before
+// the frame's timing with the units' registers (functional_frame.h): the GPP issues those
+// rays, merges the answers the units send, and checks each merged answer against the trace.
 #pragma once
 
 #include "hw/arch.h"
+#include "hw/functional_frame.h"
 #include "hw/local_clock.h"
 #include "hw/payloads.h"
 #include "hw/ray_fifo.h"
@@ -50,7 +55,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
 
   SC_HAS_PROCESS(Gpp);
   Gpp(const sc_core::sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
-      std::vector<RayRecord<T>>& rays, VcdWriter* vcd);
+      FunctionalFrame<T>& frame, VcdWriter* vcd);
 
   // Spheres per unit, in the units' order; takes effect at the next frame.
   void set_assignment(const std::vector<std::vector<std::uint32_t>>& unit_spheres) { assignment_ = unit_spheres; }
@@ -60,11 +65,6 @@ class Gpp : public sc_core::sc_module, public Waiter {
   std::string waiting_for() const override;
 
  private:
-  struct Pixel {
-    ShadeState<T> shade;
-    std::uint32_t shadow_left = 0;
-    std::vector<std::uint8_t> occluded;
-  };
   struct Pending {  // a ray waiting for answers
     std::uint32_t answers_left = 0;
     bool occluded = false;
@@ -80,15 +80,15 @@ class Gpp : public sc_core::sc_module, public Waiter {
   int full_fifo() const;  // index of a full ray FIFO, or -1
   void wait_for_space_or_answers(bool want_space, const sc_core::sc_time* deadline);
   sc_core::sc_time room_time() const;
-  std::uint32_t new_ray(const Ray<T>& ray, RayKind kind, std::uint32_t pixel);
   void issue(std::uint32_t ray);
-  void retire(std::uint32_t ray, const FrameCommand& cmd, const Shader<T>& shader);
+  void retire(std::uint32_t ray, const FrameCommand& cmd);
+  void finish_pixel(std::uint32_t pixel, FrameImage& image) const;
   void trace_in_flight();
 
   const Scene& scene_;
   const SceneGeometry<T>& geom_;
   const Arch& arch_;
-  std::vector<RayRecord<T>>& rays_;
+  FunctionalFrame<T>& frame_;
   const sc_core::sc_time cycle_;
   std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
   std::vector<IuRegisters<T>> registers_;
@@ -99,8 +99,9 @@ class Gpp : public sc_core::sc_module, public Waiter {
   // Frame state.
   const FrameCommand* command_ = nullptr;
   sc_core::sc_event request_, done_, answered_, abandoned_;
+  sc_core::sc_time wake_before_;  // while waiting for answers: a completion before this wakes the GPP
   std::vector<Pending> pending_;
-  std::vector<Pixel> pixels_;
+  std::vector<std::uint32_t> shadow_left_;  // per pixel: shadow rays not yet answered
   // Rays whose answers are all in, by (completion time, ray id): the GPP handles them in
   // this order, so simultaneous completions have one defined order at every level.
   struct Completion {

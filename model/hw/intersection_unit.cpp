@@ -4,10 +4,18 @@ namespace oprt::hw {
 
 using namespace sc_core;
 
+namespace {
+// Nothing else observes a unit's intermediate times when its FIFO never fills and its
+// answers take no bus time (local_clock.h).
+LocalClock::Mode unit_clock(const Arch& a) {
+  if (a.fifo_depth == 0 && a.bus.model == BusModel::ideal && !a.sync_every_ray) return LocalClock::Mode::ahead;
+  return a.level == Level::lt ? LocalClock::Mode::quantum : LocalClock::Mode::exact;
+}
+}  // namespace
+
 template <typename T>
 IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const Arch& arch,
-                                      const SceneGeometry<T>& geometry, const std::vector<RayRecord<T>>& rays,
-                                      VcdWriter* vcd)
+                                      const FunctionalFrame<T>& frame, VcdWriter* vcd)
     : sc_module(name),
       cfg("cfg"),
       bus("bus"),
@@ -15,10 +23,10 @@ IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const 
       fifo("fifo"),
       id_(id),
       arch_(arch),
-      geom_(geometry),
-      rays_(rays),
+      frame_(frame),
       cycle_(arch.cycle_ns(), SC_NS),
-      clock_(arch.level == Level::lt),
+      triangle_bytes_(Bytes<T>::triangle(arch.kernel)),
+      clock_(unit_clock(arch)),
       sync_on_bus_(arch.bus.model == BusModel::shared && arch.bus.lt_arbitration == LtArbitration::sync),
       vcd_(vcd) {
   cfg.register_b_transport(this, &IntersectionUnit::cfg_transport);
@@ -29,12 +37,7 @@ IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const 
 
 template <typename T>
 void IntersectionUnit<T>::reset_stats() {
-  stats_.cycles = {};
-  for (int k = 0; k < kRayKinds; ++k) {
-    stats_.rays[k] = 0;
-    stats_.per_sphere[k].assign(geom_.sphere_count(), WorkCounts{});
-  }
-  stats_.last_answer = SC_ZERO_TIME;
+  stats_ = UnitStats{};
 }
 
 template <typename T>
@@ -53,33 +56,39 @@ void IntersectionUnit<T>::trace_state(UnitState s, const sc_time& at) {
 }
 
 template <typename T>
-void IntersectionUnit<T>::read_memory(std::uint32_t sphere, std::uint64_t bytes) {
-  MemoryReadPacket packet{sphere, bytes};
+void IntersectionUnit<T>::trace_phases(const UnitRayWork* w, sc_time at) {
+  const std::uint32_t transform = arch_.kernel_costs().transform;
+  for_each_phase(frame_, w, static_cast<std::uint32_t>(id_), transform, [&](std::uint8_t state, std::uint64_t cycles) {
+    trace_state(static_cast<UnitState>(state), at);
+    at += cycle_ * static_cast<double>(cycles);
+  });
+}
+
+// One burst per entered sphere: its triangles (and, with a BVH, its nodes) as tested. The
+// memory's latency is already in the visit's stall cycles (memory_timing.h).
+template <typename T>
+void IntersectionUnit<T>::read_memory(const VisitWork& v) {
+  const std::uint64_t bytes = std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node;
+  MemoryReadPacket packet{v.sphere, bytes};
   read_.set_command(tlm::TLM_READ_COMMAND);
   read_.set_address(0);
   read_.set_data_ptr(reinterpret_cast<unsigned char*>(&packet));
   read_.set_data_length(static_cast<unsigned>(bytes));
   read_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
-  sc_time latency = SC_ZERO_TIME;  // the latency enters through stream_stall(), per triangle
+  sc_time latency = SC_ZERO_TIME;
   mem->b_transport(read_, latency);
   if (read_.is_response_error())
-    SC_REPORT_FATAL(name(), ("object memory does not hold sphere " + std::to_string(sphere)).c_str());
+    SC_REPORT_FATAL(name(), ("object memory does not hold sphere " + std::to_string(v.sphere)).c_str());
 }
 
 template <typename T>
 void IntersectionUnit<T>::run() {
-  StageLog* log = arch_.memory.model == MemoryModel::latency ? &log_ : nullptr;
-  sc_time phase_at;
-  auto phase = [&](UnitState s, std::uint64_t cycles) {  // VCD only
-    if (!cycles) return;
-    trace_state(s, phase_at);
-    phase_at += cycle_ * static_cast<double>(cycles);
-  };
+  const auto unit = static_cast<std::uint32_t>(id_);
   for (;;) {
     RayEntry e;
     while (!fifo->pop(e, clock_.now())) {
-      if (clock_.offset() != SC_ZERO_TIME) {  // catch up first, then look again: a ray
-        clock_.sync();                         // written meanwhile would be missed otherwise
+      if (clock_.offset() != SC_ZERO_TIME && clock_.mode() == LocalClock::Mode::quantum) {
+        clock_.sync();  // catch up first, then look again: a ray written meanwhile would be missed otherwise
         continue;
       }
       if (vcd_) trace_state(UnitState::idle, clock_.now());
@@ -90,33 +99,25 @@ void IntersectionUnit<T>::run() {
     activity_ = Activity::tracing;
     ray_ = e.ray;
     clock_.advance_to(e.avail);
-    const RayRecord<T>& r = rays_[e.ray];
+    const RayRecord<T>& r = frame_.rays[e.ray];
     const int kind = static_cast<int>(r.kind);
-    UnitCycles c;
-    phase_at = clock_.now();
-    auto visit = [&](const SphereVisit& v) {
-      std::uint64_t bytes = 0;
-      const UnitCycles vc = charge_visit<T>(v, arch_, stats_.per_sphere[kind], bytes);
-      c += vc;
-      if (v.work.transforms) read_memory(v.sphere, bytes);
-      if (vcd_) {  // a BVH interleaves box and triangle tests; the trace shows their totals
-        phase(UnitState::sphere, vc.sphere);
-        phase(UnitState::transform, vc.transform);
-        phase(UnitState::box, vc.box);
-        phase(UnitState::primitive, vc.primitive);
-        phase(UnitState::stall, vc.stall);
-      }
-    };
-    AnswerPacket<T> a;
-    a.ray = e.ray;
-    a.unit = static_cast<std::uint32_t>(id_);
-    if (r.kind == RayKind::primary) a.hit = trace_nearest(geom_, regs_, r.ray, visit, log);
-    else a.occluded = trace_any(geom_, regs_, r.ray, visit, log);
+    const UnitRayWork* w = frame_.find(e.ray, unit);
+    if (w)
+      for (std::uint32_t i = w->first_visit; i < w->first_visit + w->visits; ++i)
+        read_memory(frame_.units[unit].visits[i]);
+    if (vcd_) trace_phases(w, clock_.now());
+    const UnitCycles c = frame_.breakdown(w, unit);
     ++stats_.rays[kind];
     clock_.advance(cycle_ * static_cast<double>(c.busy() + c.stall));
     stats_.cycles += c;
 
     // Answer the GPP. The unit waits for its transfer: time on the bus is a stall.
+    AnswerPacket<T> a;
+    a.ray = e.ray;
+    a.unit = unit;
+    const UnitAnswer<T> answer = frame_.answer(w, unit);
+    a.occluded = answer.occluded;
+    a.hit = answer.hit;
     answer_.set_command(tlm::TLM_WRITE_COMMAND);
     answer_.set_address(addr::gpp_hits);
     answer_.set_data_ptr(reinterpret_cast<unsigned char*>(&a));
@@ -131,10 +132,8 @@ void IntersectionUnit<T>::run() {
     bus->b_transport(answer_, delay);
     if (answer_.is_response_error()) SC_REPORT_FATAL(name(), "answer to the GPP failed");
     clock_.advance_to(sim + delay);  // decoupled: the transfer's end; at: already waited
-    const sc_time after = clock_.now();
-    const auto bus_cycles = static_cast<std::uint64_t>((after - before) / cycle_ + 0.5);
-    stats_.cycles.stall += bus_cycles;
-    stats_.last_answer = after;
+    if (arch_.bus.model == BusModel::shared)
+      stats_.cycles.stall += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
   }
 }
 

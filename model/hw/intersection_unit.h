@@ -3,13 +3,18 @@
 // frame), carries the ray into a sphere's local frame on a hit and tests that sphere's
 // triangles streamed from its object memory, then answers the GPP over the bus: the nearest
 // hit of a primary ray, or whether a shadow ray is occluded (it stops at the first
-// occluder). The functional work is traverse.h's, so the answer is the reference's.
+// occluder).
 //
-// Timing: the cycles of a ray are known when it starts (unit_cycles.h); the unit waits them
-// out in one step (phases are only reported to the VCD, with their times), so a unit costs
-// one simulation event per ray, and none while idle.
+// The work itself was traced before the frame's timing (functional_frame.h: the same
+// traversal, traverse.h's); the unit looks up its record for the ray it pops, reads the
+// spheres it entered from its object memory, charges the cycles (unit_cycles.h) and sends
+// the recorded answer. The cycles of a ray are known when it starts, so the unit waits them
+// out in one step (phases are only reported to the VCD, with their times): one simulation
+// event per ray at most, none while idle, and none at all per ray when nothing can observe
+// the unit's intermediate times (local_clock.h, `ahead`).
 #pragma once
 
+#include "hw/functional_frame.h"
 #include "hw/local_clock.h"
 #include "hw/payloads.h"
 #include "hw/ray_fifo.h"
@@ -29,8 +34,6 @@ enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primi
 struct UnitStats {
   UnitCycles cycles;
   std::uint64_t rays[kRayKinds] = {};
-  std::vector<WorkCounts> per_sphere[kRayKinds];  // indexed by global sphere id
-  sc_core::sc_time last_answer;                   // when its last answer of the frame arrived
 };
 
 template <typename T>
@@ -42,8 +45,8 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   sc_core::sc_port<RayFifoIf> fifo;
 
   SC_HAS_PROCESS(IntersectionUnit);
-  IntersectionUnit(const sc_core::sc_module_name& name, int id, const Arch& arch, const SceneGeometry<T>& geometry,
-                   const std::vector<RayRecord<T>>& rays, VcdWriter* vcd);
+  IntersectionUnit(const sc_core::sc_module_name& name, int id, const Arch& arch,
+                   const FunctionalFrame<T>& frame, VcdWriter* vcd);
 
   int id() const { return id_; }
   const IuRegisters<T>& registers() const { return regs_; }
@@ -54,19 +57,19 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
  private:
   void run();
   void cfg_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
-  void read_memory(std::uint32_t sphere, std::uint64_t bytes);
+  void read_memory(const VisitWork& v);
   void trace_state(UnitState s, const sc_core::sc_time& at);
+  void trace_phases(const UnitRayWork* w, sc_core::sc_time at);
 
   const int id_;
   const Arch& arch_;
-  const SceneGeometry<T>& geom_;
-  const std::vector<RayRecord<T>>& rays_;
+  const FunctionalFrame<T>& frame_;
   const sc_core::sc_time cycle_;
+  const std::uint32_t triangle_bytes_;
   IuRegisters<T> regs_;
   UnitStats stats_;
   LocalClock clock_;
   const bool sync_on_bus_;
-  StageLog log_;
   tlm::tlm_generic_payload answer_, read_;
   VcdWriter* vcd_;
   int vcd_state_ = -1;

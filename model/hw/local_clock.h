@@ -1,8 +1,18 @@
-// A process's notion of "now" at either timing level. At `at` every delay is waited for, so
-// local time is simulation time. At `lt` the process runs ahead of simulation time by up to
-// a quantum (tlm_utils::tlm_quantumkeeper) and synchronises only when the quantum is used
-// up or before it blocks on an event.
+// A process's notion of "now". Three ways to keep it:
+//  - exact (`at`): every delay is waited for, so local time is simulation time.
+//  - quantum (`lt`): the process runs ahead of simulation time by up to a quantum
+//    (tlm_utils::tlm_quantumkeeper) and synchronises only when the quantum is used up or
+//    before it blocks on an event.
+//  - ahead: the process never waits for its own delays. Exact, not an approximation, for a
+//    process whose intermediate times no other process can observe: an intersection unit
+//    with an unbounded ray FIFO (nothing waits for room) and an ideal bus (its answers take
+//    no bus time and contend with nothing). Its answers carry their times as annotated
+//    delays, and the GPP acts on each answer only when simulation time reaches it
+//    (gpp.cpp), so every figure is the one it would be with `exact` (a test compares them).
+//    Local time is then the time its last ray finished, or simulation time if later.
 #pragma once
+
+#include <algorithm>
 
 #include <systemc>
 #include <tlm_utils/tlm_quantumkeeper.h>
@@ -11,38 +21,51 @@ namespace oprt::hw {
 
 class LocalClock {
  public:
-  explicit LocalClock(bool decoupled) : decoupled_(decoupled) { qk_.reset(); }
+  enum class Mode { exact, quantum, ahead };
+  explicit LocalClock(Mode mode) : mode_(mode) { qk_.reset(); }
 
-  bool decoupled() const { return decoupled_; }
-  sc_core::sc_time now() const { return decoupled_ ? qk_.get_current_time() : sc_core::sc_time_stamp(); }
+  Mode mode() const { return mode_; }
+  sc_core::sc_time now() const {
+    switch (mode_) {
+      case Mode::exact: return sc_core::sc_time_stamp();
+      case Mode::quantum: return qk_.get_current_time();
+      case Mode::ahead: return std::max(ahead_, sc_core::sc_time_stamp());
+    }
+    return sc_core::sc_time_stamp();
+  }
   // Time ahead of the simulation kernel (annotated on outgoing transactions).
-  sc_core::sc_time offset() const { return decoupled_ ? qk_.get_local_time() : sc_core::SC_ZERO_TIME; }
+  sc_core::sc_time offset() const { return now() - sc_core::sc_time_stamp(); }
 
   void advance(const sc_core::sc_time& d) {
     if (d == sc_core::SC_ZERO_TIME) return;
-    if (!decoupled_) {
-      sc_core::wait(d);
-      return;
+    switch (mode_) {
+      case Mode::exact: sc_core::wait(d); return;
+      case Mode::quantum:
+        qk_.inc(d);
+        if (qk_.need_sync()) qk_.sync();
+        return;
+      case Mode::ahead: ahead_ = now() + d; return;
     }
-    qk_.inc(d);
-    if (qk_.need_sync()) qk_.sync();
   }
   void advance_to(const sc_core::sc_time& t) {
     const sc_core::sc_time n = now();
     if (t > n) advance(t - n);
   }
-  // Before blocking on an event: bring simulation time up to local time.
+  // Before blocking on an event under `quantum`: bring simulation time up to local time.
+  // (`ahead` keeps its local time across the wait: a ray that arrives meanwhile starts
+  // when the unit is free, whichever is later.)
   void sync() {
-    if (decoupled_ && qk_.get_local_time() != sc_core::SC_ZERO_TIME) qk_.sync();
+    if (mode_ == Mode::quantum && qk_.get_local_time() != sc_core::SC_ZERO_TIME) qk_.sync();
   }
   // After blocking: local time restarts at simulation time.
   void resync() {
-    if (decoupled_) qk_.reset();
+    if (mode_ == Mode::quantum) qk_.reset();
   }
 
  private:
-  bool decoupled_;
+  Mode mode_;
   tlm_utils::tlm_quantumkeeper qk_;
+  sc_core::sc_time ahead_;
 };
 
 }  // namespace oprt::hw

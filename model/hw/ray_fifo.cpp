@@ -9,11 +9,13 @@ using namespace sc_core;
 RayFifo::RayFifo(const sc_module_name& name, int depth, VcdWriter* vcd)
     : sc_module(name), in("in"), depth_(depth), pop_time_(depth > 0 ? depth : 0), vcd_(vcd) {
   in.register_b_transport(this, &RayFifo::b_transport);
-  if (vcd_) vcd_var_ = vcd_->add(this->name(), "occupancy", 32);
+  if (vcd_) vcd_var_ = vcd_->add_counter(this->name(), "occupancy", 32);
 }
 
-void RayFifo::trace(const sc_time& at) {
-  if (vcd_) vcd_->change(vcd_var_, at.value(), queue_.size());
+// A push is reported at its time, a pop at its unit's (local) time, which may lie ahead of
+// simulation time: the trace is the running sum of both in time order (VcdWriter counter).
+void RayFifo::trace(const sc_time& at, int delta) {
+  if (vcd_) vcd_->change_by(vcd_var_, at.value(), delta);
 }
 
 sc_time RayFifo::space_time() const {
@@ -36,7 +38,7 @@ void RayFifo::b_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   queue_.push_back({id, at});
   ++pushes_;
   if (queue_.size() > peak_) peak_ = queue_.size();
-  trace(at);
+  trace(at, +1);
   pushed_.notify();
   p.set_response_status(tlm::TLM_OK_RESPONSE);
 }
@@ -56,7 +58,7 @@ bool RayFifo::pop(RayEntry& e, const sc_time& at) {
   queue_.pop_front();
   if (depth_ > 0) pop_time_[pops_ % depth_] = std::max(at, e.avail);
   ++pops_;
-  trace(std::max(at, e.avail));
+  trace(std::max(at, e.avail), -1);
   freed_.notify();
   return true;
 }

@@ -38,6 +38,16 @@ int VcdWriter::add(const std::string& scope, const std::string& name, int width)
   return static_cast<int>(vars_.size() - 1);
 }
 
+int VcdWriter::add_counter(const std::string& scope, const std::string& name, int width) {
+  const int v = add(scope, name, width);
+  vars_[v].counter = true;
+  return v;
+}
+
+void VcdWriter::change_by(int var, std::uint64_t time_ps, std::int64_t delta) {
+  change(var, time_ps, static_cast<std::uint64_t>(delta));
+}
+
 void VcdWriter::header() {
   out_.open(tmp_);
   if (!out_) throw std::runtime_error("cannot write " + tmp_);
@@ -75,22 +85,15 @@ void VcdWriter::change(int var, std::uint64_t time_ps, std::uint64_t value) {
   buffer_.push_back({time_ps, seq_++, var, value});
 }
 
-void VcdWriter::write(const Change& c) {
-  Var& v = vars_[c.var];
-  if (v.last == c.value && written_time_ != ~0ULL) return;  // no change
-  if (c.time != written_time_) {
-    out_ << '#' << c.time << '\n';
-    written_time_ = c.time;
-  }
-  v.last = c.value;
+void VcdWriter::write(const Var& v) {
   if (v.width == 1) {
-    out_ << (c.value ? '1' : '0') << v.code << '\n';
+    out_ << (v.value ? '1' : '0') << v.code << '\n';
     return;
   }
   char bits[72];
   int n = 0;
   for (int b = v.width - 1; b >= 0; --b)
-    if (n || (c.value >> b) & 1 || b == 0) bits[n++] = ((c.value >> b) & 1) ? '1' : '0';
+    if (n || (v.value >> b) & 1 || b == 0) bits[n++] = ((v.value >> b) & 1) ? '1' : '0';
   bits[n] = 0;
   out_ << 'b' << bits << ' ' << v.code << '\n';
 }
@@ -100,7 +103,32 @@ void VcdWriter::flush_before(std::uint64_t horizon) {
   std::sort(buffer_.begin(), buffer_.end(),
             [](const Change& a, const Change& b) { return a.time != b.time ? a.time < b.time : a.seq < b.seq; });
   std::size_t i = 0;
-  for (; i < buffer_.size() && buffer_[i].time < horizon; ++i) write(buffer_[i]);
+  while (i < buffer_.size() && buffer_[i].time < horizon) {
+    const std::uint64_t t = buffer_[i].time;
+    for (; i < buffer_.size() && buffer_[i].time == t; ++i) {
+      Var& v = vars_[buffer_[i].var];
+      v.value = v.counter ? v.value + buffer_[i].value : buffer_[i].value;  // counters: wrapping sum of deltas
+      if (!v.touched) {
+        v.touched = true;
+        touched_.push_back(buffer_[i].var);
+      }
+    }
+    std::sort(touched_.begin(), touched_.end());
+    bool stamped = false;
+    for (int k : touched_) {
+      Var& v = vars_[k];
+      v.touched = false;
+      if (v.value == v.last) continue;
+      if (!stamped) {
+        out_ << '#' << t << '\n';
+        written_time_ = t;
+        stamped = true;
+      }
+      v.last = v.value;
+      write(v);
+    }
+    touched_.clear();
+  }
   buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(i));
 }
 

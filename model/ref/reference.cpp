@@ -1,9 +1,12 @@
 #include "ref/reference.h"
 
-#include "ref/camera.h"
+#include "ref/frame_trace.h"
+#include "ref/parallel.h"
 #include "ref/stop.h"
 
 #include <numeric>
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
 
 namespace oprt {
 
@@ -19,6 +22,32 @@ WorkCounts FrameWork::total() const {
   return w;
 }
 
+FrameWork& FrameWork::operator+=(const FrameWork& o) {
+  for (int k = 0; k < kRayKinds; ++k) {
+    rays[k] += o.rays[k];
+    for (std::size_t s = 0; s < per_sphere[k].size(); ++s) per_sphere[k][s] += o.per_sphere[k][s];
+  }
+  return *this;
+}
+
+namespace {
+// The reference keeps only the work per sphere and ray kind.
+struct WorkRecorder {
+  FrameWork* work;
+  int kind = 0;
+  template <typename Ray>
+  void begin_ray(const Ray&, RayKind k, std::size_t, std::uint32_t) {
+    kind = static_cast<int>(k);
+    ++work->rays[kind];
+  }
+  void begin_unit(std::uint32_t) {}
+  void visit(const SphereVisit& v) { work->per_sphere[kind][v.sphere] += v.work; }
+  template <typename Answer>
+  void end_unit(std::uint32_t, const Answer&) {}
+  void end_ray() {}
+};
+}  // namespace
+
 template <typename T>
 FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int frame, int width, int height) {
   const FrameSetup<T> f = setup_frame(scene, g, frame);
@@ -26,40 +55,24 @@ FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int 
   const Shader<T> shader(scene, f);
   std::vector<std::uint32_t> all(g.sphere_count());
   std::iota(all.begin(), all.end(), 0u);
-  IuRegisters<T> regs;
-  regs.load(f, g, all);
+  std::vector<IuRegisters<T>> one_unit(1);
+  one_unit[0].load(f, g, all);
+  const FrameTraceInputs<T> in{g, one_unit, camera, shader};
 
   FrameResult out{FrameImage(width, height), FrameWork(g.sphere_count())};
-  const AccumulateWork primary_work{out.work.per_sphere[0].data()};
-  const AccumulateWork shadow_work{out.work.per_sphere[1].data()};
-  std::vector<Ray<T>> shadow;
-  std::vector<std::uint8_t> occluded;
-  for (int y = 0; y < height; ++y) {
+  struct Local {
+    FrameWork work;
+    PixelScratch<T> scratch;
+  };
+  tbb::enumerable_thread_specific<Local> locals([&] { return Local{FrameWork(g.sphere_count()), {}}; });
+  parallel_chunks(out.image.size(), kPixelsPerChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
     throw_if_stopped();
-    for (int x = 0; x < width; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * width + x;
-      const Ray<T> ray = camera.ray<T>(x, y);
-      ++out.work.rays[0];
-      const HitRecord<T> hit = trace_nearest(g, regs, ray, primary_work);
-      Vec3d color = shader.background();
-      if (hit.valid()) {
-        shadow.clear();
-        const ShadeState<T> state = shader.prepare(ray, hit, shadow);
-        occluded.assign(shadow.size(), 0);
-        for (std::size_t k = 0; k < shadow.size(); ++k) {
-          ++out.work.rays[1];
-          occluded[k] = trace_any(g, regs, shadow[k], shadow_work);
-        }
-        color = shader.finish(state, occluded.data());
-        out.image.z[i] = static_cast<float>(hit.t);
-        out.image.object[i] = hit.object;
-        out.image.prim[i] = hit.prim;
-      }
-      out.image.r[i] = static_cast<float>(color.x);
-      out.image.g[i] = static_cast<float>(color.y);
-      out.image.b[i] = static_cast<float>(color.z);
-    }
-  }
+    Local& l = locals.local();
+    WorkRecorder rec{&l.work};
+    for (std::size_t p = begin; p < end; ++p)
+      trace_pixel(in, static_cast<int>(p % width), static_cast<int>(p / width), out.image, rec, l.scratch);
+  });
+  for (const Local& l : locals) out.work += l.work;  // integer sums: the same in any order
   return out;
 }
 

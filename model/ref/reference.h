@@ -1,7 +1,8 @@
 // The untimed functional reference of the paper's algorithm: per pixel one primary ray,
 // nearest hit over every bounding sphere (brute force inside each), Phong shading with one
 // any-hit shadow ray per light. It is one intersection unit holding every sphere in scene
-// order, so its work counts are the paper's per-object counts.
+// order, so its work counts are the paper's per-object counts. Pixels are traced on every
+// thread the pool allows (ref/parallel.h); the image and the counts do not depend on how many.
 #pragma once
 
 #include "ref/image.h"
@@ -22,6 +23,7 @@ struct FrameWork {
   }
   WorkCounts total(RayKind k) const;
   WorkCounts total() const;
+  FrameWork& operator+=(const FrameWork& o);
 };
 
 struct FrameResult {

@@ -1,5 +1,6 @@
 // The oprt command as a user runs it: exit codes and messages for bad input, and the
 // timing levels compared run against run (two simulations need two processes).
+#include "cli_util.h"
 #include "ref/image.h"
 
 #include <catch2/catch.hpp>
@@ -17,37 +18,7 @@
 #include <nlohmann/json.hpp>
 
 namespace fs = std::filesystem;
-
-namespace {
-struct Result {
-  int status;
-  std::string output;  // stdout and stderr
-};
-
-Result run_oprt(const std::string& args) {
-  const std::string cmd = std::string(OPRT_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-}
-
-std::string scene(const std::string& name) { return std::string(OPRT_SOURCE_DIR) + "/scenes/" + name; }
-
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("oprt_cli_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-nlohmann::json stats(const fs::path& dir) {
-  std::ifstream in(dir / "stats.json");
-  return nlohmann::json::parse(in);
-}
-}  // namespace
+using namespace oprt::test;
 
 TEST_CASE("cli: bad input ends with one message naming the place and exit status 2", "[cli]") {
   const fs::path d = temp_dir("bad");

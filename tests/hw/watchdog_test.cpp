@@ -21,7 +21,7 @@ using namespace sc_core;
 namespace {
 
 struct Miswired : sc_module {
-  std::vector<hw::RayRecord<float>> rays;
+  hw::FunctionalFrame<float> frame;
   hw::Gpp<float> gpp;
   hw::Bus bus;
   hw::RayFifo fifo0, fifo1;
@@ -34,14 +34,14 @@ struct Miswired : sc_module {
   SC_HAS_PROCESS(Miswired);
   Miswired(const sc_module_name& n, const Scene& scene, const SceneGeometry<float>& g, const Arch& arch)
       : sc_module(n),
-        gpp("gpp", scene, g, arch, rays, nullptr),
+        gpp("gpp", scene, g, arch, frame, nullptr),
         bus("bus", arch, false, nullptr),
         fifo0("fifo0", arch.fifo_depth, nullptr),
         fifo1("fifo1", arch.fifo_depth, nullptr),
         memory0("memory0", arch, g.sphere_count()),
         memory1("memory1", arch, g.sphere_count()),
-        iu0("iu0", 0, arch, g, rays, nullptr),
-        iu1("iu1", 1, arch, g, rays, nullptr) {
+        iu0("iu0", 0, arch, frame, nullptr),
+        iu1("iu1", 1, arch, frame, nullptr) {
     host.bind(gpp.host);
     gpp.bus.bind(bus.in);
     bus.out.bind(gpp.hits);
