@@ -127,9 +127,12 @@ class Testbench : public sc_module {
     run.memory_load_bytes = g.memory_load_bytes;
     run.memory_load_cycles = g.memory_load_cycles;
     for (std::size_t u = 0; u < engine_->units(); ++u) {
-      hw::UnitStats& s = engine_->unit(u).stats();
+      const hw::UnitStats& s = engine_->unit(u).stats();
       hw::UnitRun r;
-      r.cycles = s.cycles;
+      r.cycles = engine_->functional().unit_cycles[u];
+      if (s.charged != r.cycles.busy() + r.cycles.stall)
+        SC_REPORT_FATAL("testbench", ("unit " + std::to_string(u) + " waited out other cycles than its work").c_str());
+      r.cycles.stall += s.bus_stall;
       r.rays = s.rays[0] + s.rays[1];
       r.memory_bytes = engine_->memory(u).bytes_read();
       run.units.push_back(r);

@@ -61,7 +61,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   }
   const CameraRays camera(cmd.camera, cmd.width, cmd.height);
   const Shader<T> shader(scene_, setup);
-  trace_functional(frame_, geom_, regs, camera, shader, arch_, cmd.width, cmd.height);
+  trace_functional(frame_, geom_, regs, camera, shader, arch_, cmd.width, cmd.height, false);
   const FunctionalFrame<T>& f = frame_;
 
   const std::size_t pixels = static_cast<std::size_t>(cmd.width) * cmd.height;
@@ -87,14 +87,11 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     const std::uint64_t answer = kind == RayKind::primary ? Bytes<T>::nearest_answer : Bytes<T>::shadow_answer;
     Cycles done_all = 0, popped = 0;
     for (std::uint32_t u = 0; u < units; ++u) {
-      const UnitRayWork* w = f.find(id, u);
       UnitRun& ur = out.units[u];
       const Cycles start = std::max(unit_free[u], avail);
-      UnitCycles c = f.breakdown(w, u);
-      const Cycles end = start + c.busy() + c.stall;
+      const Cycles end = start + f.cycles(f.find(id, u), u);
       const Cycles done = transfer(end, answer);
-      c.stall += done - end;
-      ur.cycles += c;
+      ur.cycles.stall += done - end;  // the bus; busy cycles are the trace's (below)
       ++ur.rays;
       unit_free[u] = done;
       done_all = std::max(done_all, done);
@@ -132,6 +129,11 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   out.makespan = g;
   *cmd.image = f.image;
   out.per_sphere = f.per_sphere;
+  for (std::size_t u = 0; u < units; ++u) {
+    const std::uint64_t bus_stall = out.units[u].cycles.stall;
+    out.units[u].cycles = f.unit_cycles[u];
+    out.units[u].cycles.stall += bus_stall;
+  }
   for (std::size_t u = 0; u < units; ++u)
     for (int k = 0; k < kRayKinds; ++k)
       for (std::uint32_t s : assignment_[u]) {

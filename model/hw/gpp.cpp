@@ -243,7 +243,7 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   const CameraRays camera(cmd.camera, cmd.width, cmd.height);
   const Shader<T> shader(scene_, setup);
   try {
-    trace_functional(frame_, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height);
+    trace_functional(frame_, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height, vcd_ != nullptr);
   } catch (const Interrupted&) {  // SIGINT / SIGTERM: abandon the frame; the testbench says what completed
     sc_stop();
     wait(abandoned_);  // never notified

@@ -64,12 +64,12 @@ void IntersectionUnit<T>::trace_phases(const UnitRayWork* w, sc_time at) {
   });
 }
 
-// One burst per entered sphere: its triangles (and, with a BVH, its nodes) as tested. The
-// memory's latency is already in the visit's stall cycles (memory_timing.h).
+// The triangles (and, with a BVH, the nodes) a ray's visits tested: one read per ray, or per
+// entered sphere when the trace kept that detail. The memory's latency is already in the
+// visits' stall cycles (memory_timing.h).
 template <typename T>
-void IntersectionUnit<T>::read_memory(const VisitWork& v) {
-  const std::uint64_t bytes = std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node;
-  MemoryReadPacket packet{v.sphere, bytes};
+void IntersectionUnit<T>::read_memory(std::uint32_t sphere, std::uint64_t bytes) {
+  MemoryReadPacket packet{sphere, bytes};
   read_.set_command(tlm::TLM_READ_COMMAND);
   read_.set_address(0);
   read_.set_data_ptr(reinterpret_cast<unsigned char*>(&packet));
@@ -78,7 +78,7 @@ void IntersectionUnit<T>::read_memory(const VisitWork& v) {
   sc_time latency = SC_ZERO_TIME;
   mem->b_transport(read_, latency);
   if (read_.is_response_error())
-    SC_REPORT_FATAL(name(), ("object memory does not hold sphere " + std::to_string(v.sphere)).c_str());
+    SC_REPORT_FATAL(name(), ("object memory does not hold sphere " + std::to_string(sphere)).c_str());
 }
 
 template <typename T>
@@ -102,14 +102,21 @@ void IntersectionUnit<T>::run() {
     const RayRecord<T>& r = frame_.rays[e.ray];
     const int kind = static_cast<int>(r.kind);
     const UnitRayWork* w = frame_.find(e.ray, unit);
-    if (w)
-      for (std::uint32_t i = w->first_visit; i < w->first_visit + w->visits; ++i)
-        read_memory(frame_.units[unit].visits[i]);
+    if (w && frame_.detailed) {
+      const UnitTrace<T>& ut = frame_.units[unit];
+      const std::uint32_t i = ut.index(w);
+      for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
+        const VisitWork& v = ut.visits[k];
+        read_memory(v.sphere, std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node);
+      }
+    } else if (w) {
+      read_memory(kNone, w->bytes);
+    }
     if (vcd_) trace_phases(w, clock_.now());
-    const UnitCycles c = frame_.breakdown(w, unit);
+    const std::uint64_t cycles = frame_.cycles(w, unit);
     ++stats_.rays[kind];
-    clock_.advance(cycle_ * static_cast<double>(c.busy() + c.stall));
-    stats_.cycles += c;
+    stats_.charged += cycles;
+    clock_.advance(cycle_ * static_cast<double>(cycles));
 
     // Answer the GPP. The unit waits for its transfer: time on the bus is a stall.
     AnswerPacket<T> a;
@@ -133,7 +140,7 @@ void IntersectionUnit<T>::run() {
     if (answer_.is_response_error()) SC_REPORT_FATAL(name(), "answer to the GPP failed");
     clock_.advance_to(sim + delay);  // decoupled: the transfer's end; at: already waited
     if (arch_.bus.model == BusModel::shared)
-      stats_.cycles.stall += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
+      stats_.bus_stall += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
   }
 }
 

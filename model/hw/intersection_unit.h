@@ -31,8 +31,12 @@ namespace oprt::hw {
 
 enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primitive = 3, stall = 4, box = 5 };
 
+// What the unit measured in the frame. Its busy cycles by activity are the functional
+// trace's (FunctionalFrame::unit_cycles); `charged` is what it waited out for them, which must
+// agree, and the bus is the stall only the timed model knows.
 struct UnitStats {
-  UnitCycles cycles;
+  std::uint64_t charged = 0;    // busy and memory stall, summed ray by ray
+  std::uint64_t bus_stall = 0;  // waiting for the shared bus to take its answers
   std::uint64_t rays[kRayKinds] = {};
 };
 
@@ -57,7 +61,7 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
  private:
   void run();
   void cfg_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
-  void read_memory(const VisitWork& v);
+  void read_memory(std::uint32_t sphere, std::uint64_t bytes);
   void trace_state(UnitState s, const sc_core::sc_time& at);
   void trace_phases(const UnitRayWork* w, sc_core::sc_time at);
 

@@ -84,7 +84,8 @@ struct MemoryLoadPacket {
   std::vector<std::uint32_t> spheres;
 };
 
-// The reads of one sphere visit: its triangles (and, with a BVH, its nodes).
+// The reads of one sphere visit: its triangles (and, with a BVH, its nodes); sphere kNone:
+// of all the spheres one ray entered.
 struct MemoryReadPacket {
   std::uint32_t sphere;
   std::uint64_t bytes;
