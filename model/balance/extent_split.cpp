@@ -33,8 +33,8 @@ namespace oprt {
 //   d_L^2 (transform + N_L triangle) + d_R^2 (transform + N_R triangle)
 // (the surface-area heuristic with spheres). It cuts at the gaps between pieces rather
 // than through them. The rule is then applied to the chosen cut with the exact spheres;
-// when it refuses, S stays one sphere. Top down, greedy: a cut that does not pay is not
-// made even if cuts below it would (a piece that is compact at the top is compact below).
+// when it refuses, S stays one sphere. Top down and greedy: a cut that does not pay by
+// itself is not made, even where further cuts below it would have paid together.
 
 namespace {
 
