@@ -75,7 +75,7 @@ nlohmann::json stage_costs_json(const KernelCosts& c) {
 Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   const JsonIn root(doc, file);
   root.only_keys({"format", "comment", "clock_mhz", "ius", "costs", "ray_fifo_depth", "bus", "memory", "gpp",
-                  "level", "quantum", "balance", "subdivide", "split_rule", "accel", "kernel", "precision",
+                  "level", "quantum", "balance", "subdivide", "split_rule", "split", "accel", "kernel", "precision",
                   "sync_every_ray"});
   const std::string format = root.at("format").string();
   if (format != "oprt-arch/1") root.at("format").fail("unsupported format \"" + format + "\" (expected oprt-arch/1)");
@@ -121,6 +121,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   if (auto v = root.find("balance")) a.balance = one_of(*v, {"paper", "round_robin", "sa_n", "feedback", "view"});
   a.subdivide = static_cast<int>(root.integer_or("subdivide", a.subdivide, 1, 4096));
   if (auto v = root.find("split_rule")) a.split_rule = one_of(*v, {"balanced", "median"});
+  if (auto v = root.find("split")) a.split = one_of(*v, {"count", "extent"});
   if (auto v = root.find("accel")) a.accel = one_of(*v, {"brute", "bvh"});
   if (auto v = root.find("kernel")) a.kernel = *kernel_named(one_of(*v, {"moller", "watertight"}));
   if (auto v = root.find("precision")) a.precision = one_of(*v, {"float", "double"});
@@ -150,6 +151,7 @@ nlohmann::json to_json(const Arch& a) {
           {"balance", a.balance},
           {"subdivide", a.subdivide},
           {"split_rule", a.split_rule},
+          {"split", a.split},
           {"accel", a.accel},
           {"kernel", to_string(a.kernel)},
           {"precision", a.precision},
