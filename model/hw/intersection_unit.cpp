@@ -60,7 +60,7 @@ void IntersectionUnit<T>::trace_phases(const UnitRayWork* w, sc_time at) {
   const std::uint32_t transform = arch_.kernel_costs().transform;
   for_each_phase(frame_, w, static_cast<std::uint32_t>(id_), transform, [&](std::uint8_t state, std::uint64_t cycles) {
     trace_state(static_cast<UnitState>(state), at);
-    at += cycle_ * static_cast<double>(cycles);
+    at += sc_time::from_value(cycles * cycle_.value());
   });
 }
 
@@ -116,7 +116,7 @@ void IntersectionUnit<T>::run() {
     const std::uint64_t cycles = frame_.cycles(w, unit);
     ++stats_.rays[kind];
     stats_.charged += cycles;
-    clock_.advance(cycle_ * static_cast<double>(cycles));
+    clock_.advance(sc_time::from_value(cycles * cycle_.value()));
 
     // Answer the GPP. The unit waits for its transfer: time on the bus is a stall.
     AnswerPacket<T> a;
