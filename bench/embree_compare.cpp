@@ -84,7 +84,7 @@ RaySet make_rays(const Scene& scene, const SceneGeometry<float>& g, const FrameS
 class EmbreeScene {
  public:
   EmbreeScene(const Scene& scene, const SceneGeometry<float>& g, const FrameSetup<float>& f, int frame,
-              RTCBuildQuality quality, const std::string& config)
+              RTCBuildQuality quality, bool robust, const std::string& config)
       : device_(rtcNewDevice(config.c_str())) {
     if (!device_) throw std::runtime_error("rtcNewDevice failed: " + std::to_string(rtcGetDeviceError(nullptr)));
     rtcSetDeviceErrorFunction(
@@ -94,6 +94,7 @@ class EmbreeScene {
     for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
       if (f.visible[s]) visible[g.object[s]] = 1;
     top_ = rtcNewScene(device_);
+    if (robust) rtcSetSceneFlags(top_, RTC_SCENE_FLAG_ROBUST);
     std::vector<Vec3d> moved;
     for (std::uint32_t obj = 0; obj < scene.objects.size(); ++obj) {
       const Object& o = scene.objects[obj];
@@ -104,6 +105,7 @@ class EmbreeScene {
       }
       RTCScene blas = rtcNewScene(device_);
       rtcSetSceneBuildQuality(blas, quality);
+      if (robust) rtcSetSceneFlags(blas, RTC_SCENE_FLAG_ROBUST);
       RTCGeometry mesh = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
       rtcSetGeometryBuildQuality(mesh, quality);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -255,25 +257,31 @@ std::string load_average() {
 
 // ------------------------------------------------------------------------------ agreement
 struct Agreement {
-  std::size_t same = 0, tie = 0, other_surface = 0, oprt_only = 0, embree_only = 0;
+  std::size_t same = 0, edge = 0, tie = 0, other = 0;
 };
 
-// Per primary ray: the same (object, triangle) or both missing; a different triangle at
-// (nearly) the same distance (a shared edge or a tie broken otherwise); a different surface;
-// or a hit only one of the two found (a ray through an edge or vertex: Embree's test is not
-// watertight the way oprt's is, and rounds differently).
+// How close a hit lies to an edge of its triangle, in barycentric coordinates.
+float edge_distance(const HitRecord<float>& h) { return std::min({h.u, h.v, 1 - h.u - h.v}); }
+
+// Per primary ray: the same (object, triangle), or both missing; else the ray passes within
+// 1e-4 (barycentric) of an edge of a triangle either tracer hit, where their rounding differs
+// (neither test is exact there: oprt's Moller-Trumbore in float after its own world -> local
+// transform, Embree's after its own inverse of the instance matrix, so one may slip through
+// a crack the other closes, or take the neighbour across the edge); else the two hits are at
+// the same distance (1e-4 relative: a tie broken otherwise); else something else (listed by
+// --list).
 Agreement compare_primary(const std::vector<HitRecord<float>>& o, const std::vector<HitRecord<float>>& e) {
   Agreement a;
+  constexpr float kNear = 1e-4f;
   for (std::size_t i = 0; i < o.size(); ++i) {
-    if (o[i].valid() != e[i].valid()) {
-      ++(o[i].valid() ? a.oprt_only : a.embree_only);
-    } else if (!o[i].valid() || (o[i].object == e[i].object && o[i].prim == e[i].prim)) {
+    if (o[i].valid() == e[i].valid() && (!o[i].valid() || (o[i].object == e[i].object && o[i].prim == e[i].prim)))
       ++a.same;
-    } else if (std::fabs(o[i].t - e[i].t) <= 1e-4f * std::max(o[i].t, e[i].t)) {
+    else if ((o[i].valid() && edge_distance(o[i]) < kNear) || (e[i].valid() && edge_distance(e[i]) < kNear))
+      ++a.edge;
+    else if (o[i].valid() && e[i].valid() && std::fabs(o[i].t - e[i].t) <= kNear * std::max(o[i].t, e[i].t))
       ++a.tie;
-    } else {
-      ++a.other_surface;
-    }
+    else
+      ++a.other;
   }
   return a;
 }
@@ -290,6 +298,35 @@ bool same_hits(const std::vector<HitRecord<float>>& a, const std::vector<HitReco
   return true;
 }
 
+// The first `count` primary rays on which the two disagree, with what a third opinion finds:
+// oprt's watertight kernel in double on the same (float) ray, the closest to exact at hand.
+void list_disagreements(const Scene& scene, const std::vector<SphereDef>& spheres, int frame,
+                        const std::vector<Ray<float>>& rays, const std::vector<HitRecord<float>>& o,
+                        const std::vector<HitRecord<float>>& e, int width, int count) {
+  SceneGeometry<double> g = build_geometry<double>(scene, spheres, Kernel::watertight, Accel::bvh);
+  if (has_deforming(scene)) update_deforming(g, scene, frame);
+  const FrameSetup<double> f = setup_frame(scene, g, frame);
+  std::vector<std::uint32_t> all(g.sphere_count());
+  std::iota(all.begin(), all.end(), 0u);
+  IuRegisters<double> regs;
+  regs.load(f, g, all);
+  auto show = [](const char* who, std::uint32_t object, std::uint32_t prim, double t, double u, double v) {
+    if (object == kNone) return std::printf("    %-28s miss\n", who), void();
+    std::printf("    %-28s object %u triangle %u t %.9g u %.3g v %.3g 1-u-v %.3g\n", who, object, prim, t, u, v, 1 - u - v);
+  };
+  for (std::size_t i = 0; i < o.size() && count > 0; ++i) {
+    if (o[i].valid() == e[i].valid() && (!o[i].valid() || (o[i].object == e[i].object && o[i].prim == e[i].prim)))
+      continue;
+    --count;
+    const Ray<double> r{Vec3d(rays[i].o), Vec3d(rays[i].d), kInf<double>};
+    const HitRecord<double> w = trace_nearest(g, regs, r, kIgnoreWork);
+    std::printf("  pixel (%zu, %zu):\n", i % width, i / width);
+    show("oprt (Moller, float)", o[i].object, o[i].prim, o[i].t, o[i].u, o[i].v);
+    show("Embree", e[i].object, e[i].prim, e[i].t, e[i].u, e[i].v);
+    show("oprt (watertight, double)", w.object, w.prim, w.t, w.u, w.v);
+  }
+}
+
 // ------------------------------------------------------------------------------ main
 struct Options {
   std::string scene;
@@ -300,6 +337,7 @@ struct Options {
   bool brute = true;
   std::string quality = "high";
   std::string embree_config;
+  bool robust = false;
   int list = 0;  // disagreeing primary rays to print
 };
 
@@ -322,7 +360,7 @@ int run(const Options& o) {
   const FrameSetup<float> fb = setup_frame(scene, bvh, o.frame);
   const IuRegisters<float> rb = every_sphere(bvh, fb);
   const RaySet rays = make_rays(scene, bvh, fb, width, height);
-  const EmbreeScene embree(scene, bvh, fb, o.frame, quality, o.embree_config);
+  const EmbreeScene embree(scene, bvh, fb, o.frame, quality, o.robust, o.embree_config);
 
   std::vector<HitRecord<float>> hits, embree_hits, oprt_hits;
   std::vector<std::uint8_t> occ, embree_occ, oprt_occ;
@@ -371,9 +409,9 @@ int run(const Options& o) {
   std::printf("%s, frame %d, %dx%d: %zu objects, %zu triangles; %zu primary rays (%zu hit), %zu shadow rays\n",
               o.scene.c_str(), o.frame, width, height, scene.objects.size(), triangles, rays.primary.size(), hit_count,
               rays.shadow.size());
-  std::printf("Embree: one BLAS per object (build quality %s), one instance per visible object; oprt: %u spheres, "
+  std::printf("Embree: one BLAS per object (build quality %s%s), one instance per visible object; oprt: %u spheres, "
               "Moller-Trumbore, float\n",
-              o.quality.c_str(), bvh.sphere_count());
+              o.quality.c_str(), o.robust ? ", robust" : "", bvh.sphere_count());
   std::printf("fastest of up to %d runs (at most %.0f s of runs per figure); load average before %s, after %s\n\n",
               o.budget.repeat, o.budget.seconds, load_before.c_str(), load_average().c_str());
   std::printf("| tracer | threads | primary M rays/s | shadow M rays/s | all M rays/s | time / Embree's | CPU share |\n");
@@ -389,23 +427,12 @@ int run(const Options& o) {
   }
 
   const Agreement a = compare_primary(oprt_hits, embree_hits);
-  std::printf("\nagreement, primary rays: %zu of %zu the same (object, triangle) or both missing; %zu another "
-              "triangle at the same distance (shared edge, tie); %zu another surface; %zu hit by oprt only, %zu by "
-              "Embree only\n",
-              a.same, rays.primary.size(), a.tie, a.other_surface, a.oprt_only, a.embree_only);
+  std::printf("\nagreement, primary rays: %zu of %zu the same (object, triangle) or both missing; differing: %zu "
+              "within 1e-4 of a triangle's edge, %zu at the same distance, %zu otherwise\n",
+              a.same, rays.primary.size(), a.edge, a.tie, a.other);
   std::printf("agreement, shadow rays: %zu of %zu answered differently (occluded or not)\n",
               count_differences(oprt_occ, embree_occ), rays.shadow.size());
-  int listed = 0;
-  for (std::size_t i = 0; i < oprt_hits.size() && listed < o.list; ++i) {
-    const HitRecord<float>&h = oprt_hits[i], &e = embree_hits[i];
-    if (h.valid() == e.valid() && (!h.valid() || (h.object == e.object && h.prim == e.prim))) continue;
-    ++listed;
-    const Ray<float>& r = rays.primary[i];
-    std::printf("  pixel (%zu, %zu) d = (%.9g, %.9g, %.9g): oprt object %d triangle %d t %.9g u %.9g v %.9g; Embree "
-                "object %d triangle %d t %.9g u %.9g v %.9g\n",
-                i % width, i / width, r.d.x, r.d.y, r.d.z, static_cast<int>(h.object), static_cast<int>(h.prim), h.t, h.u,
-                h.v, static_cast<int>(e.object), static_cast<int>(e.prim), e.t, e.u, e.v);
-  }
+  if (o.list > 0) list_disagreements(scene, spheres, o.frame, rays.primary, oprt_hits, embree_hits, width, o.list);
   return 0;
 }
 
@@ -425,6 +452,7 @@ int main(int argc, char** argv) {
   app.add_option("--embree-quality", o.quality, "Embree BLAS build quality")
       ->check(CLI::IsMember({"high", "medium"}))
       ->capture_default_str();
+  app.add_flag("--embree-robust", o.robust, "RTC_SCENE_FLAG_ROBUST: Embree's watertight mode (slower)");
   app.add_option("--embree-config", o.embree_config, "rtcNewDevice's configuration (e.g. verbose=1 prints its ISA)");
   app.add_option("--list", o.list, "print up to N primary rays on which the two disagree")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
