@@ -16,8 +16,9 @@
 // sphere, with a visitor that does nothing: the traversal's own work counting still runs
 // (it is part of the traversal), the reference renderer's per-sphere accumulation does not.
 // Every core: tbb::parallel_for over the rays in a task arena of that many threads (both
-// tracers are pure functions of const data). Each measurement is repeated and the fastest
-// run is reported: the machine is shared, and the fastest run is the least disturbed.
+// tracers are pure functions of const data). Each figure is the fastest of several runs,
+// each tracing the ray list often enough to last --min-run seconds: the machine is shared,
+// and the fastest run is the least disturbed. The CPU share column says how disturbed.
 #include "balance/spheres.h"
 #include "ref/camera.h"
 #include "ref/frame_setup.h"
@@ -40,6 +41,7 @@
 #include <ctime>
 #include <fstream>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -188,18 +190,16 @@ class EmbreeScene {
 };
 
 // ------------------------------------------------------------------------------ timing
-// Trace every ray: on this thread (threads == 1) or with tbb::parallel_for in an arena of
-// `threads` threads. Results go to `out` (so nothing is optimised away, and so the runs can
+// Trace every ray: on this thread (no arena) or with tbb::parallel_for in the arena. Results go to `out` (so nothing is optimised away, and so the runs can
 // be compared).
 template <typename R, typename F>
-void trace_all(const std::vector<Ray<float>>& rays, std::vector<R>& out, int threads, F&& trace) {
+void trace_all(const std::vector<Ray<float>>& rays, std::vector<R>& out, tbb::task_arena* arena, F&& trace) {
   out.resize(rays.size());
-  if (threads == 1) {
+  if (!arena) {
     for (std::size_t i = 0; i < rays.size(); ++i) out[i] = trace(rays[i]);
     return;
   }
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
+  arena->execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 64), [&](const tbb::blocked_range<std::size_t>& b) {
       for (std::size_t i = b.begin(); i != b.end(); ++i) out[i] = trace(rays[i]);
     });
@@ -207,8 +207,9 @@ void trace_all(const std::vector<Ray<float>>& rays, std::vector<R>& out, int thr
 }
 
 struct Budget {
-  int repeat = 5;       // runs at most
-  double seconds = 20;  // stop repeating once the runs so far took this long (at least one run)
+  int repeat = 5;          // runs at most
+  double seconds = 20;     // stop repeating once the runs so far took this long (at least one run)
+  double min_run = 0.25;   // a run traces the ray list as many times as fill this many seconds
 };
 
 double cpu_seconds() {  // of the whole process, every thread
@@ -221,18 +222,24 @@ struct Timing {
   double wall = INFINITY, cpu = 0;  // seconds
 };
 
-// The fastest of the runs of f(), wall seconds, with the CPU seconds that run used.
+// Seconds of wall and CPU time per call of f(), from the fastest of the runs. A first call
+// warms the caches and sets how many calls make a run: a frame's rays take a few ms on
+// Embree, too short to time alone (a thread's wake-up, a timer tick).
 template <typename F>
 Timing fastest(const Budget& b, F&& f) {
+  auto wall = [t0 = std::chrono::steady_clock::now()] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  f();
+  const double first = wall();
+  const int calls = std::max(1, static_cast<int>(std::ceil(b.min_run / first)));
   Timing best;
   double total = 0;
   for (int i = 0; i < b.repeat && (i == 0 || total < b.seconds); ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const double c0 = cpu_seconds();
-    f();
-    const double cpu = cpu_seconds() - c0;
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (s < best.wall) best = {s, cpu};
+    const double w0 = wall(), c0 = cpu_seconds();
+    for (int k = 0; k < calls; ++k) f();
+    const double cpu = cpu_seconds() - c0, s = wall() - w0;
+    if (s / calls < best.wall) best = {s / calls, cpu / calls};
     total += s;
   }
   return best;
@@ -367,8 +374,11 @@ int run(const Options& o) {
   std::vector<Row> rows;
   auto measure = [&](const std::string& name, int threads, auto&& nearest, auto&& any) {
     Row r{name, threads, {}, {}};
-    r.primary = fastest(o.budget, [&] { trace_all(rays.primary, hits, threads, nearest); });
-    r.shadow = fastest(o.budget, [&] { trace_all(rays.shadow, occ, threads, any); });
+    std::optional<tbb::task_arena> arena;
+    if (threads > 1) arena.emplace(threads);
+    tbb::task_arena* a = arena ? &*arena : nullptr;
+    r.primary = fastest(o.budget, [&] { trace_all(rays.primary, hits, a, nearest); });
+    r.shadow = fastest(o.budget, [&] { trace_all(rays.shadow, occ, a, any); });
     rows.push_back(r);
   };
   auto embree_nearest = [&](const Ray<float>& r) { return embree.nearest(r); };
@@ -412,8 +422,9 @@ int run(const Options& o) {
   std::printf("Embree: one BLAS per object (build quality %s%s), one instance per visible object; oprt: %u spheres, "
               "Moller-Trumbore, float\n",
               o.quality.c_str(), o.robust ? ", robust" : "", bvh.sphere_count());
-  std::printf("fastest of up to %d runs (at most %.0f s of runs per figure); load average before %s, after %s\n\n",
-              o.budget.repeat, o.budget.seconds, load_before.c_str(), load_average().c_str());
+  std::printf("fastest of up to %d runs of >= %.2f s (at most %.0f s of runs per figure); load average before %s, "
+              "after %s\n\n",
+              o.budget.repeat, o.budget.min_run, o.budget.seconds, load_before.c_str(), load_average().c_str());
   std::printf("| tracer | threads | primary M rays/s | shadow M rays/s | all M rays/s | time / Embree's | CPU share |\n");
   std::printf("|---|--:|--:|--:|--:|--:|--:|\n");
   const double np = static_cast<double>(rays.primary.size()), ns = static_cast<double>(rays.shadow.size());
@@ -448,6 +459,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", o.threads, "threads of the every-core rows (0: every core)")->capture_default_str();
   app.add_option("--repeat", o.budget.repeat, "runs per figure, the fastest reported")->capture_default_str();
   app.add_option("--budget", o.budget.seconds, "stop repeating a figure after this many seconds")->capture_default_str();
+  app.add_option("--min-run", o.budget.min_run, "seconds of one run (the ray list traced as often as needed)")
+      ->capture_default_str();
   app.add_flag("!--no-brute", o.brute, "skip oprt's brute-force row (slow on large scenes)");
   app.add_option("--embree-quality", o.quality, "Embree BLAS build quality")
       ->check(CLI::IsMember({"high", "medium"}))
