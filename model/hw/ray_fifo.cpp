@@ -12,7 +12,7 @@ RayFifo::RayFifo(const sc_module_name& name, int depth, VcdWriter* vcd)
   if (vcd_) vcd_var_ = vcd_->add(this->name(), "occupancy", 32);
 }
 
-void RayFifo::trace(const sc_time& at) {
+void RayFifo::trace_occupancy(const sc_time& at) {
   if (vcd_) vcd_->change(vcd_var_, at.value(), queue_.size());
 }
 
@@ -36,7 +36,7 @@ void RayFifo::b_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   queue_.push_back({id, at});
   ++pushes_;
   if (queue_.size() > peak_) peak_ = queue_.size();
-  trace(at);
+  trace_occupancy(at);
   pushed_.notify();
   p.set_response_status(tlm::TLM_OK_RESPONSE);
 }
@@ -56,7 +56,7 @@ bool RayFifo::pop(RayEntry& e, const sc_time& at) {
   queue_.pop_front();
   if (depth_ > 0) pop_time_[pops_ % depth_] = std::max(at, e.avail);
   ++pops_;
-  trace(std::max(at, e.avail));
+  trace_occupancy(std::max(at, e.avail));
   freed_.notify();
   return true;
 }
