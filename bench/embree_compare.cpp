@@ -437,8 +437,20 @@ int run(const Options& o) {
                 100 * r.cpu_share());
   }
 
+  // What oprt's BVH traversal does per ray (the work the IUs are charged for).
+  for (int k = 0; k < kRayKinds; ++k) {
+    const bool primary = k == static_cast<int>(RayKind::primary);
+    const std::vector<Ray<float>>& list = primary ? rays.primary : rays.shadow;
+    WorkCounts w;
+    auto add = [&w](const SphereVisit& v) { w += v.work; };
+    for (const Ray<float>& r : list) primary ? void(trace_nearest(bvh, rb, r, add)) : void(trace_any(bvh, rb, r, add));
+    const double n = static_cast<double>(list.size());
+    std::printf("%soprt --accel bvh per %s ray: %.1f sphere tests, %.2f transforms, %.1f box tests, %.1f triangle tests\n",
+                primary ? "\n" : "", primary ? "primary" : "shadow", w.sphere_tests / n, w.transforms / n,
+                w.box_tests / n, w.tri_tests() / n);
+  }
   const Agreement a = compare_primary(oprt_hits, embree_hits);
-  std::printf("\nagreement, primary rays: %zu of %zu the same (object, triangle) or both missing; differing: %zu "
+  std::printf("agreement, primary rays: %zu of %zu the same (object, triangle) or both missing; differing: %zu "
               "within 1e-4 of a triangle's edge, %zu at the same distance, %zu otherwise\n",
               a.same, rays.primary.size(), a.edge, a.tie, a.other);
   std::printf("agreement, shadow rays: %zu of %zu answered differently (occluded or not)\n",
