@@ -14,7 +14,7 @@ RayFifo::RayFifo(const sc_module_name& name, int depth, VcdWriter* vcd)
 
 // A push is reported at its time, a pop at its unit's (local) time, which may lie ahead of
 // simulation time: the trace is the running sum of both in time order (VcdWriter counter).
-void RayFifo::trace(const sc_time& at, int delta) {
+void RayFifo::trace_occupancy(const sc_time& at, int delta) {
   if (vcd_) vcd_->change_by(vcd_var_, at.value(), delta);
 }
 
@@ -38,7 +38,7 @@ void RayFifo::b_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   queue_.push_back({id, at});
   ++pushes_;
   if (queue_.size() > peak_) peak_ = queue_.size();
-  trace(at, +1);
+  trace_occupancy(at, +1);
   pushed_.notify();
   p.set_response_status(tlm::TLM_OK_RESPONSE);
 }
@@ -58,7 +58,7 @@ bool RayFifo::pop(RayEntry& e, const sc_time& at) {
   queue_.pop_front();
   if (depth_ > 0) pop_time_[pops_ % depth_] = std::max(at, e.avail);
   ++pops_;
-  trace(std::max(at, e.avail), -1);
+  trace_occupancy(std::max(at, e.avail), -1);
   if (depth_ > 0) freed_.notify();  // only a bounded FIFO is ever waited on for room
   return true;
 }

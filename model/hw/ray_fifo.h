@@ -55,7 +55,8 @@ class RayFifo : public sc_core::sc_module, public RayFifoIf, public Waiter {
 
  private:
   void b_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
-  void trace(const sc_core::sc_time& at, int delta);
+  // not trace(): sc_object::trace is virtual
+  void trace_occupancy(const sc_core::sc_time& at, int delta);
 
   int depth_;
   std::deque<RayEntry> queue_;

@@ -850,7 +850,7 @@ void GltfReader::finish_lights_and_camera(Scene& s) {
     const Vec3d right = glm::normalize(cross3(forward, c.up));
     const Vec3d up = cross3(right, forward);
     const double d = std::max(std::sqrt(dot3(centre - c.eye, centre - c.eye)), radius);
-    s.lights.push_back({c.eye + (up + right) * (0.5 * d), Vec3d(1)});
+    s.lights.push_back({c.eye + (up + right) * (0.5 * d), Vec3d(1), nullptr});
     notes_.add("default light", "no lights: one white light above and to the right of the camera");
   }
 }

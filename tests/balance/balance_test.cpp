@@ -50,7 +50,7 @@ Object static_object(const std::string& name, Mesh mesh) {
 Scene nested_cubes() {
   Scene s;
   s.materials.push_back({"grey", Vec3d(0.8), Vec3d(0), 1});
-  s.lights.push_back({{0, 0, 10}, Vec3d(1)});
+  s.lights.push_back({{0, 0, 10}, Vec3d(1), nullptr});
   s.objects.push_back(static_object("big", box(Vec3d(2), 1)));
   s.objects.push_back(static_object("small", box(Vec3d(0.2), 1)));
   return s;
@@ -160,7 +160,7 @@ TEST_CASE("view weights by hand", "[balance]") {
   // The cap seen from 10 away, r = 1: 2 pi (1 - sqrt(0.99)) sr.
   CHECK(w[2] == Approx(1e4 * (2 * 3.14159265358979323846 * (1 - std::sqrt(0.99))) / view_sr).epsilon(1e-12));
   // A light inside a sphere sends it every lit pixel's shadow ray.
-  const auto lit = view_weights(spheres, {1, 1, 1}, cam, 100, 100, {{{0, 0, 10}, Vec3d(1)}}, m);
+  const auto lit = view_weights(spheres, {1, 1, 1}, cam, 100, 100, {{{0, 0, 10}, Vec3d(1), nullptr}}, m);
   CHECK(lit[1] > w[1]);
 }
 

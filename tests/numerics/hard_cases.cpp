@@ -705,7 +705,7 @@ Scene far_scene(const Mesh& mesh, const Affine<double>& to_world, int size) {
   cam.target = c;
   cam.fov_y_deg = 3.5;
   s.camera = std::make_shared<FixedCamera>(cam);
-  s.lights.push_back({cam.eye + Vec3d(r, 2 * r, 0), Vec3d(1)});
+  s.lights.push_back({cam.eye + Vec3d(r, 2 * r, 0), Vec3d(1), nullptr});
   return s;
 }
 

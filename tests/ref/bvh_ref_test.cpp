@@ -62,7 +62,7 @@ Scene soup(std::mt19937_64& rng) {
 }
 
 template <typename T>
-IuRegisters<T> all_spheres(const Scene& s, const SceneGeometry<T>& g, const FrameSetup<T>& f) {
+IuRegisters<T> all_spheres(const SceneGeometry<T>& g, const FrameSetup<T>& f) {
   std::vector<std::uint32_t> all(g.sphere_count());
   for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
   IuRegisters<T> r;
@@ -137,7 +137,7 @@ void check_soup(Kernel kernel) {
   const auto brute = build_geometry<T>(s, spheres, kernel, Accel::brute);
   const auto bvh = build_geometry<T>(s, spheres, kernel, Accel::bvh);
   const FrameSetup<T> fb = setup_frame(s, brute, 0), fv = setup_frame(s, bvh, 0);
-  const IuRegisters<T> rb = all_spheres(s, brute, fb), rv = all_spheres(s, bvh, fv);
+  const IuRegisters<T> rb = all_spheres(brute, fb), rv = all_spheres(bvh, fv);
   std::uniform_real_distribution<double> pos(-14, 14), unit(0, 1), len(0.1, 30);
   auto none = [](const SphereVisit&) {};
   // Named hard cases, counted.
@@ -206,7 +206,7 @@ TEST_CASE("bvh: a sphere's work depends only on the ray and the sphere", "[bvh]"
   const Scene s = soup(rng);
   const auto g = build_geometry<float>(s, make_spheres(s, 2), Accel::bvh);
   const FrameSetup<float> f = setup_frame(s, g, 0);
-  const IuRegisters<float> all = all_spheres(s, g, f);
+  const IuRegisters<float> all = all_spheres(g, f);
   std::vector<IuRegisters<float>> single(g.sphere_count());
   for (std::uint32_t k = 0; k < g.sphere_count(); ++k) single[k].load(f, g, {k});
   std::uniform_real_distribution<double> pos(-14, 14);

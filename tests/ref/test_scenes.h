@@ -22,7 +22,7 @@ inline Scene shadow_box(int size = 64) {
   s.camera = std::make_shared<FixedCamera>(c);
   s.ambient = Vec3d(0.1);
   s.background = Vec3d(0);
-  s.lights.push_back({{10, 0, 10}, Vec3d(1)});
+  s.lights.push_back({{10, 0, 10}, Vec3d(1), nullptr});
   s.materials.push_back({"grey", Vec3d(0.8), Vec3d(0), 1});
   auto quad = [](double cx, double cy, double cz, double half) {
     Mesh m;
@@ -31,8 +31,8 @@ inline Scene shadow_box(int size = 64) {
     m.triangles = {{0, 1, 2}, {0, 2, 3}};
     return m;
   };
-  Object wall{"wall", 0, quad(0, 0, 0, 10), std::make_shared<StaticMotion>(Affine<double>::identity())};
-  Object occ{"occluder", 0, quad(4, 0, 5, 0.5), std::make_shared<StaticMotion>(Affine<double>::identity())};
+  Object wall{"wall", 0, quad(0, 0, 0, 10), std::make_shared<StaticMotion>(Affine<double>::identity()), nullptr};
+  Object occ{"occluder", 0, quad(4, 0, 5, 0.5), std::make_shared<StaticMotion>(Affine<double>::identity()), nullptr};
   s.objects.push_back(wall);
   s.objects.push_back(occ);
   return s;
