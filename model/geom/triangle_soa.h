@@ -4,12 +4,15 @@
 // block functions at the end are the one place that dispatches on the kernel.
 #pragma once
 
+#include "geom/simd_kernels.h"
 #include "geom/triangle.h"
 #include "geom/watertight.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace oprt {
@@ -141,6 +144,197 @@ inline bool any_loop(const Soa& soa, std::uint32_t first, std::uint32_t end, con
   }
   return false;
 }
+
+template <typename T>
+inline BlockHit<T> nearest_scalar(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
+                                  std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
+  if (m.kernel == Kernel::watertight)
+    return nearest_loop<T>(m.watertight, first, end, watertight_ray(ray), stages, hits, log);
+  return nearest_loop<T>(m.moller, first, end, ray, stages, hits, log);
+}
+
+template <typename T>
+inline bool any_scalar(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
+                       std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
+  if (m.kernel == Kernel::watertight) return any_loop(m.watertight, first, end, watertight_ray(ray), stages, hits, log);
+  return any_loop(m.moller, first, end, ray, stages, hits, log);
+}
+
+#if OPRT_HAVE_AVX2
+// The block loops over the SIMD chunk kernels (geom/simd_kernels.h): chunk(k, n) tests
+// triangles k .. k+n-1 of [first, end) on lanes 0 .. n-1. Exit stages are counted from the
+// stage masks (popcounts, added to `stages` once per block) and logged as the sum of the
+// masks spread to bytes; the lanes are merged in memory order with the scalar loop's rules.
+struct StageTally {
+  std::uint64_t tested = 0, pass[3] = {0, 0, 0}, hits = 0;
+  void add(unsigned lanes, const unsigned* p) {
+    tested += static_cast<unsigned>(__builtin_popcount(lanes));
+    for (int s = 0; s < 3; ++s) pass[s] += static_cast<unsigned>(__builtin_popcount(p[s] & lanes));
+  }
+  void flush(std::uint64_t* stages, std::uint64_t* h) const {
+    stages[0] += tested - pass[0];
+    stages[1] += pass[0] - pass[1];
+    stages[2] += pass[1] - pass[2];
+    stages[3] += pass[2];
+    *h += hits;
+  }
+};
+
+inline void log_chunk(std::uint8_t* log, unsigned n, const unsigned* p) {
+  const std::uint64_t bytes = spread_bits(p[0]) + spread_bits(p[1]) + spread_bits(p[2]);
+  std::memcpy(log, &bytes, n);
+}
+
+// (The chunk object is taken by value: a local copy that log writes cannot alias keeps the
+// ray and the stream pointers in registers.)
+template <typename T, typename Chunk>
+inline BlockHit<T> nearest_chunks(std::uint32_t first, std::uint32_t end, const Chunk chunk, std::uint64_t* stages,
+                                  std::uint64_t* hits, std::uint8_t* log) {
+  constexpr unsigned W = kLanes<T>;
+  BlockHit<T> best;
+  StageTally tally;
+  for (std::uint32_t k = first; k < end; k += W) {
+    const unsigned n = end - k < W ? end - k : W;
+    const simd::ChunkResult<T> r = chunk(k, n);
+    tally.add(lanes_below(n), r.pass);
+    if (log) log_chunk(log + (k - first), n, r.pass);
+    if (r.hit) {
+      tally.hits += static_cast<unsigned>(__builtin_popcount(r.hit));
+      const simd::Lanes<T> t(r.t), un(r.un), vn(r.vn), den(r.den);
+      for (unsigned m = r.hit; m; m &= m - 1) {
+        const unsigned i = static_cast<unsigned>(__builtin_ctz(m));
+        if (t[i] < best.t) best = {t[i], k + i, un[i] / den[i], vn[i] / den[i]};
+      }
+    }
+  }
+  tally.flush(stages, hits);
+  return best;
+}
+
+template <typename T, typename Chunk>
+inline bool any_chunks(std::uint32_t first, std::uint32_t end, const Chunk chunk, std::uint64_t* stages,
+                       std::uint64_t* hits, std::uint8_t* log) {
+  constexpr unsigned W = kLanes<T>;
+  StageTally tally;
+  for (std::uint32_t k = first; k < end; k += W) {
+    unsigned n = end - k < W ? end - k : W;
+    const simd::ChunkResult<T> r = chunk(k, n);
+    if (r.hit) n = static_cast<unsigned>(__builtin_ctz(r.hit)) + 1;  // the tests made: up to the first hit
+    tally.add(lanes_below(n), r.pass);
+    if (log) log_chunk(log + (k - first), n, r.pass);
+    if (r.hit) {
+      tally.hits = 1;
+      tally.flush(stages, hits);
+      return true;
+    }
+  }
+  tally.flush(stages, hits);
+  return false;
+}
+
+// The kernel's streams and the ray in the chunk kernel's form, once per block.
+template <typename T>
+struct MollerChunks {
+  const T* s[12];
+  simd::MollerRayPack<T> r;
+  MollerChunks(const MollerSoA<T>& m, const Ray<T>& ray) : r(ray) {
+    for (int i = 0; i < 12; ++i) s[i] = m.c[i].data();
+  }
+  OPRT_SIMD_INLINE simd::ChunkResult<T> operator()(std::size_t k, unsigned n) const { return simd::moller_chunk(s, k, n, r); }
+};
+
+template <typename T>
+struct WatertightChunks {
+  const T *a[3], *b[3], *c[3];
+  simd::WatertightRayPack<T> r;
+  WatertightChunks(const WatertightSoA<T>& m, const WatertightRay<T>& w) : r(w) {
+    const int perm[3] = {w.kx, w.ky, w.kz};
+    for (int j = 0; j < 3; ++j) {
+      a[j] = m.c[perm[j]].data();
+      b[j] = m.c[3 + perm[j]].data();
+      c[j] = m.c[6 + perm[j]].data();
+    }
+  }
+  OPRT_SIMD_INLINE simd::ChunkResult<T> operator()(std::size_t k, unsigned n) const {
+    return simd::watertight_chunk(a, b, c, k, n, r); }
+};
+
+template <typename T>
+inline BlockHit<T> nearest_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
+                                std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
+  if (m.kernel == Kernel::watertight)
+    return nearest_chunks<T>(first, end, WatertightChunks<T>(m.watertight, watertight_ray(ray)), stages, hits, log);
+  return nearest_chunks<T>(first, end, MollerChunks<T>(m.moller, ray), stages, hits, log);
+}
+
+template <typename T>
+inline bool any_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
+                     std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
+  if (m.kernel == Kernel::watertight)
+    return any_chunks<T>(first, end, WatertightChunks<T>(m.watertight, watertight_ray(ray)), stages, hits, log);
+  return any_chunks<T>(first, end, MollerChunks<T>(m.moller, ray), stages, hits, log);
+}
+#endif  // OPRT_HAVE_AVX2
+
+// OPRT_SIMD=check: run both, compare every output, bit for bit.
+template <typename T>
+inline bool same_bits(T a, T b) {
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+struct BlockOutputs {
+  std::uint64_t stages[kTriStages] = {}, hits = 0;
+  std::vector<std::uint8_t> log;
+  BlockOutputs(std::uint32_t n, bool logged) : log(logged ? n : 0) {}
+  std::uint8_t* log_data() { return log.empty() ? nullptr : log.data(); }
+  void compare(const BlockOutputs& o, std::uint32_t first) const {
+    simd_checked();
+    for (int s = 0; s < kTriStages; ++s)
+      if (stages[s] != o.stages[s]) simd_mismatch("exit-stage count", first);
+    if (hits != o.hits) simd_mismatch("hit count", first);
+    if (log != o.log) simd_mismatch("exit-stage log", first);
+  }
+  void add_to(std::uint64_t* st, std::uint64_t* h, std::uint8_t* l) const {
+    for (int s = 0; s < kTriStages; ++s) st[s] += stages[s];
+    *h += hits;
+    if (l) std::copy(log.begin(), log.end(), l);
+  }
+};
+
+template <typename T>
+inline BlockHit<T> nearest_checked(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end,
+                                   const Ray<T>& ray, std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
+  BlockOutputs a(end - first, log != nullptr), b(end - first, log != nullptr);
+  const BlockHit<T> ha = nearest_scalar(m, first, end, ray, a.stages, &a.hits, a.log_data());
+  BlockHit<T> hb = ha;
+#if OPRT_HAVE_AVX2
+  hb = nearest_simd(m, first, end, ray, b.stages, &b.hits, b.log_data());
+#else
+  b = a;
+#endif
+  if (ha.index != hb.index || !same_bits(ha.t, hb.t) || !same_bits(ha.u, hb.u) || !same_bits(ha.v, hb.v))
+    simd_mismatch("nearest hit", first);
+  a.compare(b, first);
+  a.add_to(stages, hits, log);
+  return ha;
+}
+
+template <typename T>
+inline bool any_checked(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
+                        std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
+  BlockOutputs a(end - first, log != nullptr), b(end - first, log != nullptr);
+  const bool ha = any_scalar(m, first, end, ray, a.stages, &a.hits, a.log_data());
+  bool hb = ha;
+#if OPRT_HAVE_AVX2
+  hb = any_simd(m, first, end, ray, b.stages, &b.hits, b.log_data());
+#else
+  b = a;
+#endif
+  if (ha != hb) simd_mismatch("any hit", first);
+  a.compare(b, first);
+  a.add_to(stages, hits, log);
+  return ha;
+}
 }  // namespace detail
 
 // Nearest hit over triangles [first, end); adds each test's exit stage to stages[] and the
@@ -148,22 +342,33 @@ inline bool any_loop(const Soa& soa, std::uint32_t first, std::uint32_t end, con
 // (the memory model needs the order). Among equal t the first (lowest index) wins. The
 // watertight kernel's per-ray set-up (dominant axis) is redone per block: the unit does it
 // once per transform, and its cost is in the transform's (hw/cycle_schedule.cpp).
+// The SIMD kernels (geom/simd_kernels.h) give the same results as the scalar ones; which
+// run is simd_mode()'s choice (geom/simd.h).
 template <typename T>
 inline BlockHit<T> nearest_in_block(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end,
                                     const Ray<T>& ray, std::uint64_t* stages, std::uint64_t* hits,
                                     std::uint8_t* log = nullptr) {
-  if (m.kernel == Kernel::watertight)
-    return detail::nearest_loop<T>(m.watertight, first, end, watertight_ray(ray), stages, hits, log);
-  return detail::nearest_loop<T>(m.moller, first, end, ray, stages, hits, log);
+  switch (simd_mode()) {
+#if OPRT_HAVE_AVX2
+    case SimdMode::on: return detail::nearest_simd(m, first, end, ray, stages, hits, log);
+#endif
+    case SimdMode::check: return detail::nearest_checked(m, first, end, ray, stages, hits, log);
+    default: return detail::nearest_scalar(m, first, end, ray, stages, hits, log);
+  }
 }
 
-// First hit over [first, end) in order; stops there. Returns whether there was one.
+// First hit over [first, end) in order; stops there. Returns whether there was one. The
+// stage counts and the log hold the tests made, up to that hit.
 template <typename T>
 inline bool any_in_block(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
                          std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log = nullptr) {
-  if (m.kernel == Kernel::watertight)
-    return detail::any_loop(m.watertight, first, end, watertight_ray(ray), stages, hits, log);
-  return detail::any_loop(m.moller, first, end, ray, stages, hits, log);
+  switch (simd_mode()) {
+#if OPRT_HAVE_AVX2
+    case SimdMode::on: return detail::any_simd(m, first, end, ray, stages, hits, log);
+#endif
+    case SimdMode::check: return detail::any_checked(m, first, end, ray, stages, hits, log);
+    default: return detail::any_scalar(m, first, end, ray, stages, hits, log);
+  }
 }
 
 }  // namespace oprt
