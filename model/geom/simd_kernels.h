@@ -52,24 +52,27 @@ struct MollerRayPack {
         tmax(Pack<T>::splat(r.tmax)) {}
 };
 
-// Moller-Trumbore (geom/triangle.h, intersect_moller) on triangles k .. k+n-1. s: the 12
-// streams v0, e1, e2, n (x, y, z each).
+// Moller-Trumbore (geom/triangle.h, intersect_moller) on the W triangles of a storage block
+// (geom/triangle_soa.h: W values of stream j at blk + j W; streams v0, e1, e2, n, each x, y,
+// z), on the lanes of `lanes`.
 template <typename T>
-OPRT_SIMD_INLINE ChunkResult<T> moller_chunk(const T* const* s, std::size_t k, unsigned n, const MollerRayPack<T>& r) {
+OPRT_SIMD_INLINE ChunkResult<T> moller_chunk(const T* blk, unsigned lanes, const MollerRayPack<T>& r) {
   using P = Pack<T>;
+  auto s = [blk](int j) { return P::load(blk + j * P::W); };
   ChunkResult<T> out;
-  const P nx = P::load(s[9] + k, n), ny = P::load(s[10] + k, n), nz = P::load(s[11] + k, n);
+  const P nx = s(9), ny = s(10), nz = s(11);
   const P det = -((r.dx * nx + r.dy * ny) + r.dz * nz);
-  out.pass[0] = bits(det != P::splat(0)) & lanes_below(n);
+  out.pass[0] = bits(det != P::splat(0)) & lanes;
   if (!out.pass[0]) return out;
-  const P tvx = r.ox - P::load(s[0] + k, n), tvy = r.oy - P::load(s[1] + k, n), tvz = r.oz - P::load(s[2] + k, n);
+  const P tvx = r.ox - s(0), tvy = r.oy - s(1), tvz = r.oz - s(2);
   const P cx = tvy * r.dz - tvz * r.dy, cy = tvz * r.dx - tvx * r.dz, cz = tvx * r.dy - tvy * r.dx;
   const P sign = select(det < P::splat(0), P::splat(-1), P::splat(1));
   const P adet = det * sign;
-  const P u = ((P::load(s[6] + k, n) * cx + P::load(s[7] + k, n) * cy) + P::load(s[8] + k, n) * cz) * sign;
+  const P u = ((s(6) * cx + s(7) * cy) + s(8) * cz) * sign;
   out.pass[1] = out.pass[0] & ~bits((u < P::splat(0)) | (u > adet));
-  if (!out.pass[1]) return out;
-  const P v = -((P::load(s[3] + k, n) * cx + P::load(s[4] + k, n) * cy) + P::load(s[5] + k, n) * cz) * sign;
+  // (No early exit here: when most tests leave at u, whether any lane of a chunk survives
+  // is a coin toss that costs a mispredicted branch; computing v always is cheaper.)
+  const P v = -((s(3) * cx + s(4) * cy) + s(5) * cz) * sign;
   out.pass[2] = out.pass[1] & ~bits((v < P::splat(0)) | (u + v > adet));
   if (!out.pass[2]) return out;
   out.t = ((tvx * nx + tvy * ny) + tvz * nz) / det;
@@ -137,17 +140,19 @@ OPRT_SIMD_INLINE unsigned owns_edge(Pack<T> px, Pack<T> py, Pack<T> qx, Pack<T> 
   return (left & up) | (right & down);
 }
 
-// The watertight test (geom/watertight.h, intersect_watertight) on triangles k .. k+n-1.
-// a, b, c: the streams of v0, v1, v2, each in the ray's permuted order (kx, ky, kz).
-template <typename T>
-OPRT_SIMD_INLINE ChunkResult<T> watertight_chunk(const T* const* a, const T* const* b, const T* const* c, std::size_t k,
-                                       unsigned n, const WatertightRayPack<T>& r) {
+// The watertight test (geom/watertight.h, intersect_watertight) on the W triangles of a
+// storage block (streams v0, v1, v2, each x, y, z), on the lanes of `lanes`, for a ray whose
+// dominant axis is KZ: the components are read in the permuted order kx, ky, kz.
+template <typename T, int KZ>
+OPRT_SIMD_INLINE ChunkResult<T> watertight_chunk(const T* blk, unsigned lanes, const WatertightRayPack<T>& r) {
   using P = Pack<T>;
+  constexpr int kx = KZ == 2 ? 0 : KZ + 1, ky = kx == 2 ? 0 : kx + 1, kz = KZ;
+  auto s = [blk](int vertex, int axis) { return P::load(blk + (3 * vertex + axis) * P::W); };
   ChunkResult<T> out;
-  const unsigned valid = lanes_below(n);
-  const P Bx = P::load(b[0] + k, n) - r.ox, Bz = P::load(b[2] + k, n) - r.oz, By = P::load(b[1] + k, n) - r.oy;
-  const P Cx = P::load(c[0] + k, n) - r.ox, Cz = P::load(c[2] + k, n) - r.oz, Cy = P::load(c[1] + k, n) - r.oy;
-  const P Ax = P::load(a[0] + k, n) - r.ox, Az = P::load(a[2] + k, n) - r.oz, Ay = P::load(a[1] + k, n) - r.oy;
+  const unsigned valid = lanes;
+  const P Bx = s(1, kx) - r.ox, Bz = s(1, kz) - r.oz, By = s(1, ky) - r.oy;
+  const P Cx = s(2, kx) - r.ox, Cz = s(2, kz) - r.oz, Cy = s(2, ky) - r.oy;
+  const P Ax = s(0, kx) - r.ox, Az = s(0, kz) - r.oz, Ay = s(0, ky) - r.oy;
   const P bx = r.dz * Bx - r.dx * Bz, by = r.dz * By - r.dy * Bz;
   const P cx = r.dz * Cx - r.dx * Cz, cy = r.dz * Cy - r.dy * Cz;
   const Edge<T> U = edge(bx, cy, by, cx, valid);  // edge v1 -> v2

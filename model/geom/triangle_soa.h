@@ -27,31 +27,45 @@ std::array<Vec3<T>*, 3> fields(WatertightTriangle<T>& t) {
   return {&t.v0, &t.v1, &t.v2};
 }
 
-// Structure of arrays of a format of N Vec3 fields: 3 N streams of T.
+// Structure of arrays of a format of N Vec3 fields: 3 N streams of T, stored in blocks of
+// W = kLanes<T> triangles (Embree's layout): block b holds triangles b W .. b W + W - 1,
+// stream after stream, W values each. The W triangles of a block load as 3 N vectors from
+// one address; triangle i's stream j is at block(i / W)[j W + i % W]. The last block is
+// padded with zeros (zero-area triangles, outside every range the block functions test).
 template <typename T, typename Tri, int N>
 struct Vec3SoA {
-  std::vector<T> c[3 * N];
+  static constexpr int kStreams = 3 * N;
+  static constexpr std::size_t W = kLanes<T>;
 
-  std::size_t size() const { return c[0].size(); }
-  void reserve(std::size_t n) {
-    for (auto& s : c) s.reserve(n);
-  }
+  std::size_t size() const { return n_; }
+  void reserve(std::size_t n) { data_.reserve((n + W - 1) / W * W * kStreams); }
+  // Stream j (field j / 3, component j % 3) of triangle i.
+  T get(std::size_t i, int j) const { return data_[(i / W) * W * kStreams + j * W + i % W]; }
+  const T* block(std::size_t b) const { return data_.data() + b * W * kStreams; }
   void push_back(Tri t) {
-    const auto f = fields(t);
-    for (int k = 0; k < N; ++k)
-      for (int j = 0; j < 3; ++j) c[3 * k + j].push_back((*f[k])[j]);
+    if (n_ % W == 0) data_.resize(data_.size() + W * kStreams, T(0));
+    write(n_++, t);
   }
   Tri operator[](std::size_t i) const {
     Tri t;
     const auto f = fields(t);
-    for (int k = 0; k < N; ++k) *f[k] = {c[3 * k][i], c[3 * k + 1][i], c[3 * k + 2][i]};
+    for (int k = 0; k < N; ++k) *f[k] = {get(i, 3 * k), get(i, 3 * k + 1), get(i, 3 * k + 2)};
     return t;
   }
   void write(std::size_t i, Tri t) {
     const auto f = fields(t);
     for (int k = 0; k < N; ++k)
-      for (int j = 0; j < 3; ++j) c[3 * k + j][i] = (*f[k])[j];
+      for (int j = 0; j < 3; ++j) data_[(i / W) * W * kStreams + (3 * k + j) * W + i % W] = (*f[k])[j];
   }
+  bool finite(std::size_t i) const {
+    for (int j = 0; j < kStreams; ++j)
+      if (!std::isfinite(get(i, j))) return false;
+    return true;
+  }
+
+ private:
+  std::vector<T> data_;
+  std::size_t n_ = 0;
 };
 
 template <typename T>
@@ -94,14 +108,7 @@ struct TriangleStore {
     else moller.write(i, prepare_moller<T>(a, b, c));
   }
   // Is everything stored for triangle i finite?
-  bool finite(std::size_t i) const {
-    auto all = [i](const auto& streams) {
-      for (const auto& c : streams)
-        if (!std::isfinite(c[i])) return false;
-      return true;
-    };
-    return kernel == Kernel::watertight ? all(watertight.c) : all(moller.c);
-  }
+  bool finite(std::size_t i) const { return kernel == Kernel::watertight ? watertight.finite(i) : moller.finite(i); }
 };
 
 // Result of testing one ray against a block of triangles.
@@ -161,10 +168,11 @@ inline bool any_scalar(const TriangleStore<T>& m, std::uint32_t first, std::uint
 }
 
 #if OPRT_HAVE_AVX2
-// The block loops over the SIMD chunk kernels (geom/simd_kernels.h): chunk(k, n) tests
-// triangles k .. k+n-1 of [first, end) on lanes 0 .. n-1. Exit stages are counted from the
-// stage masks (popcounts, added to `stages` once per block) and logged as the sum of the
-// masks spread to bytes; the lanes are merged in memory order with the scalar loop's rules.
+// The block loops over the SIMD chunk kernels (geom/simd_kernels.h): chunk(b, lanes) tests
+// the triangles of the storage block that starts at triangle b (a multiple of W) on the
+// lanes of `lanes`, those of [first, end). Exit stages are counted from the stage masks
+// (popcounts, added to `stages` once per block call) and logged as the sum of the masks
+// spread to bytes; the lanes are merged in memory order with the scalar loop's rules.
 struct StageTally {
   std::uint64_t tested = 0, pass[3] = {0, 0, 0}, hits = 0;
   void add(unsigned lanes, const unsigned* p) {
@@ -180,30 +188,40 @@ struct StageTally {
   }
 };
 
-inline void log_chunk(std::uint8_t* log, unsigned n, const unsigned* p) {
-  const std::uint64_t bytes = spread_bits(p[0]) + spread_bits(p[1]) + spread_bits(p[2]);
-  std::memcpy(log, &bytes, n);
+// Lanes lo .. hi-1 of a chunk: their exit stages to dst[0 .. hi-lo-1].
+inline void log_chunk(std::uint8_t* dst, unsigned lo, unsigned hi, const unsigned* p) {
+  const std::uint64_t bytes = (spread_bits(p[0]) + spread_bits(p[1]) + spread_bits(p[2])) >> (8 * lo);
+  std::memcpy(dst, &bytes, hi - lo);
 }
 
+// The lanes of the storage block starting at triangle b that lie in [first, end).
+template <typename T>
+struct ChunkLanes {
+  unsigned lo, hi, mask;
+  ChunkLanes(std::uint32_t b, std::uint32_t first, std::uint32_t end)
+      : lo(first > b ? first - b : 0), hi(end - b < kLanes<T> ? end - b : kLanes<T>),
+        mask(lanes_below(hi) & ~lanes_below(lo)) {}
+};
+
 // (The chunk object is taken by value: a local copy that log writes cannot alias keeps the
-// ray and the stream pointers in registers.)
+// ray in registers.)
 template <typename T, typename Chunk>
 inline BlockHit<T> nearest_chunks(std::uint32_t first, std::uint32_t end, const Chunk chunk, std::uint64_t* stages,
                                   std::uint64_t* hits, std::uint8_t* log) {
   constexpr unsigned W = kLanes<T>;
   BlockHit<T> best;
   StageTally tally;
-  for (std::uint32_t k = first; k < end; k += W) {
-    const unsigned n = end - k < W ? end - k : W;
-    const simd::ChunkResult<T> r = chunk(k, n);
-    tally.add(lanes_below(n), r.pass);
-    if (log) log_chunk(log + (k - first), n, r.pass);
+  for (std::uint32_t b = first / W * W; b < end; b += W) {
+    const ChunkLanes<T> in(b, first, end);
+    const simd::ChunkResult<T> r = chunk(b, in.mask);
+    tally.add(in.mask, r.pass);
+    if (log) log_chunk(log + (b + in.lo - first), in.lo, in.hi, r.pass);
     if (r.hit) {
       tally.hits += static_cast<unsigned>(__builtin_popcount(r.hit));
       const simd::Lanes<T> t(r.t), un(r.un), vn(r.vn), den(r.den);
       for (unsigned m = r.hit; m; m &= m - 1) {
         const unsigned i = static_cast<unsigned>(__builtin_ctz(m));
-        if (t[i] < best.t) best = {t[i], k + i, un[i] / den[i], vn[i] / den[i]};
+        if (t[i] < best.t) best = {t[i], b + i, un[i] / den[i], vn[i] / den[i]};
       }
     }
   }
@@ -216,12 +234,15 @@ inline bool any_chunks(std::uint32_t first, std::uint32_t end, const Chunk chunk
                        std::uint64_t* hits, std::uint8_t* log) {
   constexpr unsigned W = kLanes<T>;
   StageTally tally;
-  for (std::uint32_t k = first; k < end; k += W) {
-    unsigned n = end - k < W ? end - k : W;
-    const simd::ChunkResult<T> r = chunk(k, n);
-    if (r.hit) n = static_cast<unsigned>(__builtin_ctz(r.hit)) + 1;  // the tests made: up to the first hit
-    tally.add(lanes_below(n), r.pass);
-    if (log) log_chunk(log + (k - first), n, r.pass);
+  for (std::uint32_t b = first / W * W; b < end; b += W) {
+    ChunkLanes<T> in(b, first, end);
+    const simd::ChunkResult<T> r = chunk(b, in.mask);
+    if (r.hit) {  // the tests made: up to the first hit
+      in.hi = static_cast<unsigned>(__builtin_ctz(r.hit)) + 1;
+      in.mask &= lanes_below(in.hi);
+    }
+    tally.add(in.mask, r.pass);
+    if (log) log_chunk(log + (b + in.lo - first), in.lo, in.hi, r.pass);
     if (r.hit) {
       tally.hits = 1;
       tally.flush(stages, hits);
@@ -232,46 +253,50 @@ inline bool any_chunks(std::uint32_t first, std::uint32_t end, const Chunk chunk
   return false;
 }
 
-// The kernel's streams and the ray in the chunk kernel's form, once per block.
+// The kernel's storage and the ray in the chunk kernel's form, once per block call.
 template <typename T>
 struct MollerChunks {
-  const T* s[12];
+  const MollerSoA<T>* m;
   simd::MollerRayPack<T> r;
-  MollerChunks(const MollerSoA<T>& m, const Ray<T>& ray) : r(ray) {
-    for (int i = 0; i < 12; ++i) s[i] = m.c[i].data();
+  MollerChunks(const MollerSoA<T>& soa, const Ray<T>& ray) : m(&soa), r(ray) {}
+  OPRT_SIMD_INLINE simd::ChunkResult<T> operator()(std::uint32_t b, unsigned lanes) const {
+    return simd::moller_chunk(m->block(b / kLanes<T>), lanes, r);
   }
-  OPRT_SIMD_INLINE simd::ChunkResult<T> operator()(std::size_t k, unsigned n) const { return simd::moller_chunk(s, k, n, r); }
 };
 
-template <typename T>
+// The watertight kernel reads the vertices' components in the ray's permuted order, fixed
+// at compile time per dominant axis KZ (three instances): every load has a constant offset.
+template <typename T, int KZ>
 struct WatertightChunks {
-  const T *a[3], *b[3], *c[3];
+  const WatertightSoA<T>* m;
   simd::WatertightRayPack<T> r;
-  WatertightChunks(const WatertightSoA<T>& m, const WatertightRay<T>& w) : r(w) {
-    const int perm[3] = {w.kx, w.ky, w.kz};
-    for (int j = 0; j < 3; ++j) {
-      a[j] = m.c[perm[j]].data();
-      b[j] = m.c[3 + perm[j]].data();
-      c[j] = m.c[6 + perm[j]].data();
-    }
+  WatertightChunks(const WatertightSoA<T>& soa, const WatertightRay<T>& w) : m(&soa), r(w) {}
+  OPRT_SIMD_INLINE simd::ChunkResult<T> operator()(std::uint32_t b, unsigned lanes) const {
+    return simd::watertight_chunk<T, KZ>(m->block(b / kLanes<T>), lanes, r);
   }
-  OPRT_SIMD_INLINE simd::ChunkResult<T> operator()(std::size_t k, unsigned n) const {
-    return simd::watertight_chunk(a, b, c, k, n, r); }
 };
 
 template <typename T>
 inline BlockHit<T> nearest_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
                                 std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
-  if (m.kernel == Kernel::watertight)
-    return nearest_chunks<T>(first, end, WatertightChunks<T>(m.watertight, watertight_ray(ray)), stages, hits, log);
+  if (m.kernel == Kernel::watertight) {
+    const WatertightRay<T> w = watertight_ray(ray);
+    if (w.kz == 0) return nearest_chunks<T>(first, end, WatertightChunks<T, 0>(m.watertight, w), stages, hits, log);
+    if (w.kz == 1) return nearest_chunks<T>(first, end, WatertightChunks<T, 1>(m.watertight, w), stages, hits, log);
+    return nearest_chunks<T>(first, end, WatertightChunks<T, 2>(m.watertight, w), stages, hits, log);
+  }
   return nearest_chunks<T>(first, end, MollerChunks<T>(m.moller, ray), stages, hits, log);
 }
 
 template <typename T>
 inline bool any_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
                      std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
-  if (m.kernel == Kernel::watertight)
-    return any_chunks<T>(first, end, WatertightChunks<T>(m.watertight, watertight_ray(ray)), stages, hits, log);
+  if (m.kernel == Kernel::watertight) {
+    const WatertightRay<T> w = watertight_ray(ray);
+    if (w.kz == 0) return any_chunks<T>(first, end, WatertightChunks<T, 0>(m.watertight, w), stages, hits, log);
+    if (w.kz == 1) return any_chunks<T>(first, end, WatertightChunks<T, 1>(m.watertight, w), stages, hits, log);
+    return any_chunks<T>(first, end, WatertightChunks<T, 2>(m.watertight, w), stages, hits, log);
+  }
   return any_chunks<T>(first, end, MollerChunks<T>(m.moller, ray), stages, hits, log);
 }
 #endif  // OPRT_HAVE_AVX2
