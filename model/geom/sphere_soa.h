@@ -31,18 +31,18 @@ struct SphereSoA {
 template <typename T>
 inline unsigned sphere_hits(const std::vector<Sphere<T>>& spheres, const SphereSoA<T>& soa, const Ray<T>& ray,
                             std::size_t i, unsigned n) {
-  const SimdMode mode = simd_mode();
 #if OPRT_HAVE_AVX2
-  if (mode == SimdMode::on && soa.size() == spheres.size()) {
-    const T* s[4] = {soa.c[0].data(), soa.c[1].data(), soa.c[2].data(), soa.c[3].data()};
-    return simd::sphere_chunk(s, i, n, ray);
-  }
+  const SimdMode mode = simd_mode();
+  const bool streams = soa.size() == spheres.size();
+  const T* s[4] = {soa.c[0].data(), soa.c[1].data(), soa.c[2].data(), soa.c[3].data()};
+  if (mode == SimdMode::on && streams) return simd::sphere_chunk(s, i, n, ray);
+#else
+  (void)soa;
 #endif
   unsigned m = 0;
   for (unsigned j = 0; j < n; ++j) m |= static_cast<unsigned>(hit_sphere(ray, spheres[i + j])) << j;
 #if OPRT_HAVE_AVX2
-  if (mode == SimdMode::check && soa.size() == spheres.size()) {
-    const T* s[4] = {soa.c[0].data(), soa.c[1].data(), soa.c[2].data(), soa.c[3].data()};
+  if (mode == SimdMode::check && streams) {
     if (simd::sphere_chunk(s, i, n, ray) != m) detail::simd_mismatch("sphere test", i);
     detail::simd_checked();
   }
