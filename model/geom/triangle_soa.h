@@ -279,8 +279,10 @@ struct WatertightChunks {
   }
 };
 
+// Called once per block, like the scalar loops, and likewise not inlined into the callers
+// (whose register pressure would otherwise spill the ray).
 template <typename T>
-inline BlockHit<T> nearest_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
+__attribute__((noinline)) BlockHit<T> nearest_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
                                 std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
   if (m.kernel == Kernel::watertight) {
     const WatertightRay<T> w = watertight_ray(ray);
@@ -292,7 +294,7 @@ inline BlockHit<T> nearest_simd(const TriangleStore<T>& m, std::uint32_t first, 
 }
 
 template <typename T>
-inline bool any_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
+__attribute__((noinline)) bool any_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
                      std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
   if (m.kernel == Kernel::watertight) {
     const WatertightRay<T> w = watertight_ray(ray);
