@@ -1,4 +1,4 @@
-// SIMD packs for the kernels of geom/*_simd.h, and the switch between those kernels and the
+// SIMD packs for the kernels of geom/simd_kernels.h, and the switch between those kernels and the
 // scalar ones. A pack is W lanes of T in one AVX2 register: 8 floats or 4 doubles. Only what
 // the kernels need: IEEE +, -, *, /, negation, the comparisons C++ writes, masks as lane bits.
 //

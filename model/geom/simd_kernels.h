@@ -1,6 +1,7 @@
 // The intersection unit's kernels over a chunk of W consecutive entries of object memory
-// (W = 8 floats or 4 doubles, geom/simd.h): Moller-Trumbore and the watertight test over W
-// triangles of a structure-of-arrays store, the sphere test over W world spheres. One
+// (W = 8 floats or 4 doubles, geom/simd.h): Moller-Trumbore and the watertight test over the
+// W triangles of a storage block (geom/triangle_soa.h), the sphere test over W of a unit's
+// world spheres (geom/sphere_soa.h). One
 // source per kernel for both precisions, over the pack type; the scalar kernels
 // (geom/triangle.h, geom/watertight.h, geom/sphere.h) stay the definition and the fallback.
 //
@@ -11,8 +12,8 @@
 //    (geom/simd.h); nothing is contracted into an FMA (-ffp-contract=off; no vfmadd in
 //    these kernels' code, see docs/results.md "Kernels: SIMD").
 //  - Lanes compute what the scalar kernel would not have computed (u after det == 0, the
-//    tail lanes of a block, a stage after every lane has left): those values are never
-//    read. Each stage's outcome is a bit mask of the lanes still in the test; a later
+//    triangles of a storage block outside the range [first, end) tested, v after every
+//    lane has left at u): those values are never read, their lanes are masked. Each stage's outcome is a bit mask of the lanes still in the test; a later
 //    stage only narrows it, and a lane's exit stage is the number of stage masks it is in.
 //    The masks and the comparisons are those of the scalar code, with NaN lanes compared
 //    as C++ compares them (ordered predicates, unordered for !=).

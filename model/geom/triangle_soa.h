@@ -1,7 +1,8 @@
-// Triangles as object memory streams them: structure of arrays, one array per component,
-// so a block of consecutive triangles loads as vectors (the SIMD kernels read 8 or 16 at a
-// time). A sphere's triangles are one contiguous range. Each kernel has its own format; the
-// block functions at the end are the one place that dispatches on the kernel.
+// Triangles as object memory streams them: structure of arrays, one stream per component,
+// in blocks of 8 floats or 4 doubles, so that the SIMD kernels (geom/simd_kernels.h) load a
+// block's triangles as vectors. A sphere's triangles are one contiguous range. Each kernel
+// has its own format; the block functions at the end are the one place that dispatches on
+// the kernel, and on the scalar or SIMD kernels (simd_mode(), geom/simd.h).
 #pragma once
 
 #include "geom/simd_kernels.h"
