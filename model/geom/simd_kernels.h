@@ -13,8 +13,9 @@
 //    these kernels' code, see docs/results.md "Kernels: SIMD").
 //  - Lanes compute what the scalar kernel would not have computed (u after det == 0, the
 //    triangles of a storage block outside the range [first, end) tested, v after every
-//    lane has left at u): those values are never read, their lanes are masked. Each stage's outcome is a bit mask of the lanes still in the test; a later
-//    stage only narrows it, and a lane's exit stage is the number of stage masks it is in.
+//    lane has left at u): those values are never read, their lanes are masked. Each
+//    stage's outcome is a bit mask of the lanes still in the test; a later stage only
+//    narrows it, and a lane's exit stage is the number of stage masks it is in.
 //    The masks and the comparisons are those of the scalar code, with NaN lanes compared
 //    as C++ compares them (ordered predicates, unordered for !=).
 //  - Divisions: t = tz / det is divided on every lane with the scalar operands (identical

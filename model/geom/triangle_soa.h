@@ -127,7 +127,7 @@ namespace detail {
 // inlined into a large caller (18 % slower).
 template <typename T, typename Soa, typename R>
 __attribute__((noinline)) BlockHit<T> nearest_loop(const Soa& soa, std::uint32_t first, std::uint32_t end, const R& ray,
-                                std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
+                                                   std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
   BlockHit<T> best;
   for (std::uint32_t k = first; k < end; ++k) {
     const auto h = soa.intersect(ray, k);
@@ -142,8 +142,8 @@ __attribute__((noinline)) BlockHit<T> nearest_loop(const Soa& soa, std::uint32_t
 }
 
 template <typename Soa, typename R>
-__attribute__((noinline)) bool any_loop(const Soa& soa, std::uint32_t first, std::uint32_t end, const R& ray, std::uint64_t* stages,
-                     std::uint64_t* hits, std::uint8_t* log) {
+__attribute__((noinline)) bool any_loop(const Soa& soa, std::uint32_t first, std::uint32_t end, const R& ray,
+                                        std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
   for (std::uint32_t k = first; k < end; ++k) {
     const auto h = soa.intersect(ray, k);
     ++stages[static_cast<int>(h.stage)];
@@ -283,8 +283,9 @@ struct WatertightChunks {
 // Called once per block, like the scalar loops, and likewise not inlined into the callers
 // (whose register pressure would otherwise spill the ray).
 template <typename T>
-__attribute__((noinline)) BlockHit<T> nearest_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
-                                std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
+__attribute__((noinline)) BlockHit<T> nearest_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end,
+                                                   const Ray<T>& ray, std::uint64_t* stages, std::uint64_t* hits,
+                                                   std::uint8_t* log) {
   if (m.kernel == Kernel::watertight) {
     const WatertightRay<T> w = watertight_ray(ray);
     if (w.kz == 0) return nearest_chunks<T>(first, end, WatertightChunks<T, 0>(m.watertight, w), stages, hits, log);
@@ -295,8 +296,9 @@ __attribute__((noinline)) BlockHit<T> nearest_simd(const TriangleStore<T>& m, st
 }
 
 template <typename T>
-__attribute__((noinline)) bool any_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end, const Ray<T>& ray,
-                     std::uint64_t* stages, std::uint64_t* hits, std::uint8_t* log) {
+__attribute__((noinline)) bool any_simd(const TriangleStore<T>& m, std::uint32_t first, std::uint32_t end,
+                                        const Ray<T>& ray, std::uint64_t* stages, std::uint64_t* hits,
+                                        std::uint8_t* log) {
   if (m.kernel == Kernel::watertight) {
     const WatertightRay<T> w = watertight_ray(ray);
     if (w.kz == 0) return any_chunks<T>(first, end, WatertightChunks<T, 0>(m.watertight, w), stages, hits, log);

@@ -63,7 +63,8 @@ Soup make_soup(Rng& rng, double s) {
   for (int i = 0; i < kGrid; ++i)
     for (int j = 0; j < kGrid; ++j) {
       const bool lift = (i + j) % 4 == 3;
-      const Vec3d a = grid(i, j, lift), b = grid(i + 1, j, lift), c = grid(i + 1, j + 1, lift), d = grid(i, j + 1, lift);
+      const Vec3d a = grid(i, j, lift), b = grid(i + 1, j, lift);
+      const Vec3d c = grid(i + 1, j + 1, lift), d = grid(i, j + 1, lift);
       if ((i * 7 + j) % 2) {
         soup.tris.insert(soup.tris.end(), {a, b, c, a, c, d});
       } else {
@@ -192,7 +193,8 @@ Coverage compare_soup(Rng& rng, double scale, Kernel k, int rays) {
     for (int pass = 0; pass < 2; ++pass) {
       // Every length 0 .. 3W + 1 at offsets 0 .. W, and the whole store.
       for (std::uint32_t first = 0; first <= W; ++first)
-        for (std::uint32_t len = 0; len <= 3 * W + 1 && first + len <= n; ++len) compare_block(m, first, first + len, ray);
+        for (std::uint32_t len = 0; len <= 3 * W + 1 && first + len <= n; ++len)
+          compare_block(m, first, first + len, ray);
       compare_block(m, 0, n, ray);
       // Coverage, and the second pass with tmax exactly at the nearest hit's t (rejected there).
       const Mode off(SimdMode::off);
