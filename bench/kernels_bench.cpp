@@ -6,9 +6,18 @@
 // Triangle kernels are benchmarked through a small adapter (struct Moller below): to add a
 // kernel, write its adapter (prepare a triangle, run the test, name its exit stage for each
 // geometric case) and add one line to the registration list at the bottom.
+//
+// Blocks (block/...): the block functions as the units call them, one ray against a
+// sphere's 2048 triangles in object memory, with the scalar kernels (OPRT_SIMD=off) and the
+// SIMD ones (geom/simd_kernels.h) side by side, per kernel, precision and exit mix; items/s
+// is triangle tests per second, and the counters give the mix (fraction of tests leaving at
+// each stage).
 #include "geom/affine.h"
+#include "geom/simd.h"
 #include "geom/sphere.h"
+#include "geom/sphere_soa.h"
 #include "geom/triangle.h"
+#include "geom/triangle_soa.h"
 #include "geom/watertight.h"
 
 #include <benchmark/benchmark.h>
@@ -233,6 +242,127 @@ void register_triangle_kernel() {
   }
 }
 
+
+// ----------------------------------------------------------------------------------- blocks
+// Exit mixes, each a sphere's worth of triangles and the rays that enter it:
+//   cloud     the paper's flying triangles (scene 'polygons'): 2048 triangles of size 0.09
+//             in a unit ball, rays from 15 away through the ball; almost every test leaves
+//             at the first barycentric stage, a few hit
+//   parallel  triangles in planes z = const, rays with d.z = 0: Moller leaves at 'det'
+//   stack     2048 copies of one triangle at z = 1 .. 2048, rays along z through it: every
+//             test reaches 't' and hits (the worst case for the SIMD loop's hit merging)
+enum class Mix { cloud, parallel, stack };
+const char* mix_name(Mix m) { return m == Mix::cloud ? "cloud" : m == Mix::parallel ? "parallel" : "stack"; }
+constexpr std::uint32_t kBlock = 2048;
+constexpr std::size_t kBlockRays = 64;
+
+template <typename T>
+struct Block {
+  TriangleStore<T> tris;
+  std::vector<Ray<T>> rays;
+  Block(Kernel k, Mix mix) : tris(k) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u(-1, 1);
+    auto in_ball = [&](double r) {
+      for (;;) {
+        const Vec3d p(u(rng), u(rng), u(rng));
+        if (dot3(p, p) <= 1) return p * r;
+      }
+    };
+    for (std::uint32_t i = 0; i < kBlock; ++i) {
+      if (mix == Mix::cloud) {
+        const Vec3d c = in_ball(1);
+        tris.push_back(c + in_ball(0.09), c + in_ball(0.09), c + in_ball(0.09));
+      } else if (mix == Mix::parallel) {
+        const double z = u(rng);
+        tris.push_back(Vec3d(u(rng), u(rng), z), Vec3d(u(rng), u(rng), z), Vec3d(u(rng), u(rng), z));
+      } else {
+        const double z = 1 + i;
+        tris.push_back(Vec3d(-1, -1, z), Vec3d(2, -1, z), Vec3d(-1, 2, z));
+      }
+    }
+    for (std::size_t i = 0; i < kBlockRays; ++i) {
+      Vec3d o, d;
+      if (mix == Mix::cloud) {
+        o = Vec3d(unit(random_point<double>(rng, -1, 1))) * 15.0;
+        d = in_ball(1) - o;
+      } else if (mix == Mix::parallel) {
+        o = Vec3d(u(rng), u(rng), u(rng)) * 3.0;
+        d = Vec3d(u(rng), u(rng), 0);
+      } else {
+        o = Vec3d(0.1 * u(rng), 0.1 * u(rng), 0);
+        d = Vec3d(0, 0, 1);
+      }
+      rays.push_back({Vec3<T>(o), Vec3<T>(d / std::sqrt(dot3(d, d))), kInf<T>});
+    }
+  }
+};
+
+template <typename T>
+void BM_block(benchmark::State& state, Kernel k, Mix mix, bool simd, bool any) {
+  if (simd && !simd_available()) {
+    state.SkipWithError("this build has no SIMD kernels (no AVX2)");
+    return;
+  }
+  const Block<T> b(k, mix);
+  set_simd_mode(simd ? SimdMode::on : SimdMode::off);
+  std::uint64_t stages[kTriStages] = {}, hits = 0;
+  for (auto _ : state)
+    for (const Ray<T>& ray : b.rays) {
+      if (any) {
+        const bool h = any_in_block(b.tris, 0, kBlock, ray, stages, &hits);
+        benchmark::DoNotOptimize(h);
+      } else {
+        const BlockHit<T> h = nearest_in_block(b.tris, 0, kBlock, ray, stages, &hits);
+        benchmark::DoNotOptimize(h);
+      }
+    }
+  std::uint64_t tests = 0;
+  for (auto c : stages) tests += c;
+  state.SetItemsProcessed(static_cast<std::int64_t>(tests));
+  for (int s = 0; s < kTriStages; ++s)
+    state.counters[stage_names(k)[s]] = tests ? static_cast<double>(stages[s]) / static_cast<double>(tests) : 0;
+}
+
+void register_blocks() {
+  for (Kernel k : {Kernel::moller, Kernel::watertight})
+    for (Mix mix : {Mix::cloud, Mix::parallel, Mix::stack})
+      for (bool any : {false, true}) {
+        if (any && mix != Mix::cloud) continue;  // a shadow ray stops at its first hit: only the cloud
+        for (bool dbl : {false, true})
+          for (bool simd : {false, true}) {
+            const std::string name = std::string(any ? "block_any/" : "block/") + to_string(k) + "/" + mix_name(mix) +
+                                     (dbl ? "/double/" : "/float/") + (simd ? "simd" : "scalar");
+            if (dbl)
+              benchmark::RegisterBenchmark(name.c_str(), BM_block<double>, k, mix, simd, any);
+            else
+              benchmark::RegisterBenchmark(name.c_str(), BM_block<float>, k, mix, simd, any);
+          }
+      }
+}
+
+// A unit's sphere registers: one ray against 32 world spheres (the paper scenes' count),
+// scalar and SIMD; items/s is sphere tests per second.
+template <typename T>
+void BM_sphere_registers(benchmark::State& state, bool simd) {
+  if (simd && !simd_available()) {
+    state.SkipWithError("this build has no SIMD kernels (no AVX2)");
+    return;
+  }
+  const SphereBatch<T> b(0.5);
+  std::vector<Sphere<T>> spheres(b.spheres.begin(), b.spheres.begin() + 32);
+  SphereSoA<T> soa;
+  for (const auto& s : spheres) soa.push_back(s);
+  set_simd_mode(simd ? SimdMode::on : SimdMode::off);
+  for (auto _ : state)
+    for (std::size_t r = 0; r < 64; ++r)
+      for (std::size_t i = 0; i < spheres.size(); i += kLanes<T>) {
+        const unsigned h = sphere_hits(spheres, soa, b.rays[r], i, kLanes<T>);
+        benchmark::DoNotOptimize(h);
+      }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * 64 * spheres.size()));
+}
+
 // Arg: 1 = the rays hit, 0 = they miss.
 BENCHMARK_TEMPLATE(BM_sphere, float, hit_sphere<float>)->Name("sphere/stable/float")->Arg(1)->Arg(0);
 BENCHMARK_TEMPLATE(BM_sphere, double, hit_sphere<double>)->Name("sphere/stable/double")->Arg(1)->Arg(0);
@@ -246,6 +376,12 @@ BENCHMARK_TEMPLATE(BM_transform, double)->Name("transform/double");
 int main(int argc, char** argv) {
   register_triangle_kernel<Moller>();  // add a kernel here, with its adapter above
   register_triangle_kernel<Watertight>();
+  register_blocks();
+  for (bool simd : {false, true}) {
+    const std::string mode = simd ? "simd" : "scalar";
+    benchmark::RegisterBenchmark(("sphere/registers/float/" + mode).c_str(), BM_sphere_registers<float>, simd);
+    benchmark::RegisterBenchmark(("sphere/registers/double/" + mode).c_str(), BM_sphere_registers<double>, simd);
+  }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -11,6 +11,7 @@
 // its work, so every caller charges the same counts.
 #pragma once
 
+#include "geom/sphere_soa.h"
 #include "ref/bvh_traverse.h"
 #include "ref/frame_setup.h"
 #include "ref/work.h"
@@ -42,20 +43,41 @@ struct IuRegisters {
   std::vector<std::uint32_t> sphere;  // global sphere ids, in the unit's test order
   std::vector<Sphere<T>> world;       // per entry: world bounding sphere
   std::vector<Affine<T>> to_local;    // per entry: world -> local of its object
+  SphereSoA<T> world_streams;         // `world` again as streams, for the SIMD sphere test
 
   std::size_t size() const { return sphere.size(); }
   void load(const FrameSetup<T>& f, const SceneGeometry<T>& g, const std::vector<std::uint32_t>& spheres) {
     sphere.clear();
     world.clear();
     to_local.clear();
+    world_streams.clear();
     for (std::uint32_t s : spheres) {
       if (!f.visible[s]) continue;  // hidden this frame: the GPP does not write it
       sphere.push_back(s);
       world.push_back(f.world_sphere[s]);
+      world_streams.push_back(f.world_sphere[s]);
       to_local.push_back(f.to_local[g.object[s]]);
     }
   }
+  // The sphere tests of entries i .. i+n-1 (n <= kLanes<T>): bit j set if the ray hits
+  // entry i + j's world sphere (hit_sphere, geom/sphere_soa.h).
+  unsigned sphere_hits(const Ray<T>& ray, std::uint32_t i, unsigned n) const {
+    return oprt::sphere_hits(world, world_streams, ray, i, n);
+  }
 };
+
+// Calls f(i, hit) for each entry i of the unit's registers in order, with its sphere test,
+// the tests made kLanes<T> at a time; stops after an entry for which f returns true.
+template <typename T, typename F>
+inline void for_each_sphere_test(const IuRegisters<T>& regs, const Ray<T>& ray, F&& f) {
+  const std::uint32_t count = static_cast<std::uint32_t>(regs.size());
+  for (std::uint32_t i0 = 0; i0 < count; i0 += kLanes<T>) {
+    const unsigned n = count - i0 < kLanes<T> ? count - i0 : kLanes<T>;
+    const unsigned hits = regs.sphere_hits(ray, i0, n);
+    for (unsigned j = 0; j < n; ++j)
+      if (f(i0 + j, ((hits >> j) & 1u) != 0)) return;
+  }
+}
 
 // What one sphere visit cost: one sphere test, and if it hit, one transform and the tests
 // of the sphere's triangles (all of them for a nearest-hit ray; up to the first occluder for
@@ -82,10 +104,10 @@ template <typename T, typename Visit>
 HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray,
                            Visit&& visit, StageLog* log = nullptr) {
   HitRecord<T> best;
-  for (std::uint32_t i = 0; i < regs.size(); ++i) {
+  for_each_sphere_test(regs, ray, [&](std::uint32_t i, bool sphere_hit) {
     SphereVisit v{i, regs.sphere[i], {}};
     v.work.sphere_tests = 1;
-    if (hit_sphere(ray, regs.world[i])) {
+    if (sphere_hit) {
       v.work.transforms = 1;
       const std::uint32_t s = v.sphere;
       const Ray<T> local = regs.to_local[i].ray(ray);
@@ -95,7 +117,7 @@ HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& re
         const HitRecord<T> c{h.t, mem.object[s], h.valid() ? mem.prim[h.index] : kNone, s, h.u, h.v};
         if (h.valid() && closer(c, best)) best = c;
         visit(v);
-        continue;
+        return false;
       }
       std::uint8_t* l = nullptr;
       if (log) {
@@ -110,7 +132,8 @@ HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& re
       }
     }
     visit(v);
-  }
+    return false;
+  });
   return best;
 }
 
@@ -118,11 +141,11 @@ HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& re
 template <typename T, typename Visit>
 bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray, Visit&& visit,
                StageLog* log = nullptr) {
-  for (std::uint32_t i = 0; i < regs.size(); ++i) {
+  bool occluded = false;
+  for_each_sphere_test(regs, ray, [&](std::uint32_t i, bool sphere_hit) {
     SphereVisit v{i, regs.sphere[i], {}};
     v.work.sphere_tests = 1;
-    bool occluded = false;
-    if (hit_sphere(ray, regs.world[i])) {
+    if (sphere_hit) {
       v.work.transforms = 1;
       const std::uint32_t s = v.sphere;
       const Ray<T> local = regs.to_local[i].ray(ray);
@@ -130,8 +153,7 @@ bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ra
         occluded = any_in_bvh(mem, s, local, v.work, log);
         if (log) v.stages = log->data();
         visit(v);
-        if (occluded) return true;
-        continue;
+        return occluded;
       }
       std::uint8_t* l = nullptr;
       if (log) {
@@ -142,9 +164,9 @@ bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ra
                               &v.work.tri_hits, l);
     }
     visit(v);
-    if (occluded) return true;
-  }
-  return false;
+    return occluded;
+  });
+  return occluded;
 }
 
 // A visitor that adds each visit's work to a per-sphere table.

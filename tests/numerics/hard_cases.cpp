@@ -505,7 +505,10 @@ Outcome tiny_spheres(Kernel) {
         const Vec3d perp = f - dd * dot3(f, dd);
         if (!(std::sqrt(dot3(perp, perp)) < 0.99 * static_cast<double>(s.r)) || dot3(f, dd) > 0) continue;
         ++out.trials;
-        if (!(kTextbook ? hit_sphere_textbook(ray, s) : hit_sphere(ray, s))) ++out.sphere_misses;
+        // The model's test as a unit's registers run it (geom/sphere_soa.h: scalar or SIMD).
+        SphereSoA<T> streams;
+        streams.push_back(s);
+        if (!(kTextbook ? hit_sphere_textbook(ray, s) : sphere_hits({s}, streams, ray, 0, 1) == 1)) ++out.sphere_misses;
       }
   return out;
 }
