@@ -24,6 +24,7 @@ extern SceneLimits scene_limits;
 // line sets them with --tessellation and --max-object-triangles.
 struct LoadOptions {
   AffOptions aff;
+  bool print_warnings = true;  // Scene::warnings to stderr, each as "oprt: warning: ..."
 };
 
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
