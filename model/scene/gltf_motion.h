@@ -7,6 +7,7 @@
 #include "scene/motion.h"
 #include "scene/scene.h"
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -74,6 +75,21 @@ class GltfCameraPath final : public CameraPath {
  private:
   MotionPtr node_;
   double fov_y_deg_;
+};
+
+// A light that moves with its node: PointLight::position is where it is at frame 0, and this
+// motion translates it to where(frame) (a point light: its node's origin; a directional
+// light's stand-in: far out against the node's -Z).
+class GltfLightPath final : public Motion {
+ public:
+  GltfLightPath(std::function<Vec3d(double)> where, const Vec3d& at_frame0)
+      : where_(std::move(where)), at0_(at_frame0) {}
+  Affine<double> at(double frame) const override { return translate(where_(frame) - at0_); }
+  bool animated() const override { return true; }
+
+ private:
+  std::function<Vec3d(double)> where_;
+  Vec3d at0_;
 };
 
 }  // namespace oprt

@@ -1020,7 +1020,8 @@ void AffReader::include(Cursor& c, const Stmt& s) {
       (p.is_absolute() ? p : fs::path(c.file()).parent_path() / p).lexically_normal().string();
   std::error_code ec;
   if (!fs::is_regular_file(resolved, ec))
-    c.fail(s.line, "cannot open included file " + shown(name) + " (looked for " + resolved + ")");
+    c.fail(s.line, "cannot open included file " + shown(name) + " (looked for " +
+                       (resolved.size() > 200 ? resolved.substr(0, 200) + "..." : resolved) + ")");
   const std::string key = fs::weakly_canonical(resolved, ec).string();
   for (const std::string& f : including_) {
     if (fs::weakly_canonical(f, ec).string() == key) {

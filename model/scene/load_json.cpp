@@ -175,7 +175,7 @@ Scene load_oprt_json(const std::string& path) {
   if (auto lights = root.find("lights")) {
     for (const JsonIn& lj : lights->items()) {
       lj.only_keys({"position", "color"});
-      s.lights.push_back({lj.at("position").vec3(), lj.vec3_or("color", Vec3d(1))});
+      s.lights.push_back({lj.at("position").vec3(), lj.vec3_or("color", Vec3d(1)), nullptr});
     }
   }
   std::map<std::string, std::uint32_t> material_index;
