@@ -19,6 +19,9 @@
 //   a START END FRAMES           animation range
 //   # or % to the end of the line: comment
 //
+// Key times may go backwards or repeat, as BART's reader allows: such a list is evaluated as
+// BART's code evaluates it (kb_spline.h; Anim::visible; tpa_corners), with one warning.
+//
 // The reader is token based: a statement is its keyword followed by whitespace-separated
 // values, wherever the line breaks fall. The current material is global state, as in
 // BART: it survives the end of a { } block and carries into and out of included files.
@@ -590,13 +593,13 @@ class AffReader {
   std::set<std::string> note_set_;
   std::vector<std::string> warnings_;
   std::set<std::string> warning_set_;
-  struct TpaBackwards {
+  struct TpaBackwards {  // the first key that goes back in the first such 'tpa' of a file
     int line, key_line;
     std::size_t key, keys;
     double time, after;
-    std::size_t lists;  // 'tpa' statements of the file whose times go backwards
+    std::set<int> lists;  // lines of the file's 'tpa' statements whose times go backwards
   };
-  std::map<std::string, TpaBackwards> tpa_backwards_;  // by file, in the first such 'tpa'
+  std::map<std::string, TpaBackwards> tpa_backwards_;  // by file
 };
 
 std::string time_text(double t) {
@@ -960,7 +963,7 @@ void AffReader::animated_triangle(Cursor& c, const Stmt& s) {
   for (std::size_t k = 0; k < n; ++k) {
     const int tline = c.line();
     const double time = c.number(s, "key time");
-    if (k > 0 && time < tr.times.back() && !back) back = TpaBackwards{s.line, tline, k, n, time, tr.times.back(), 0};
+    if (k > 0 && time < tr.times.back() && !back) back = TpaBackwards{s.line, tline, k, n, time, tr.times.back(), {}};
     tr.reach.push_back(tr.times.size() > first_key ? std::max(tr.reach.back(), time) : time);
     tr.times.push_back(time);
     for (int j = 0; j < 3; ++j) {
@@ -972,10 +975,8 @@ void AffReader::animated_triangle(Cursor& c, const Stmt& s) {
   }
   tr.first.push_back(static_cast<std::uint32_t>(tr.times.size()));
   note("vertex normals ignored (flat shading)");
-  if (back) {  // one warning per file, however many of its triangles do this (see read())
-    auto [it, first] = tpa_backwards_.try_emplace(c.file(), *back);
-    ++it->second.lists;
-  }
+  if (back)  // one warning per file, however many of its triangles do this (see read())
+    tpa_backwards_.try_emplace(c.file(), *back).first->second.lists.insert(s.line);
 }
 
 void AffReader::sphere(Cursor& c, const Stmt& s) {
@@ -1283,7 +1284,9 @@ Scene AffReader::read(const std::string& path) {
     warn(file, b.line, "'tpa' key times go backwards: key " + std::to_string(b.key + 1) + " of " +
                            std::to_string(b.keys) + " (line " + std::to_string(b.key_line) + ") at time " +
                            time_text(b.time) + " after " + time_text(b.after) +
-                           (b.lists > 1 ? " (and in " + std::to_string(b.lists - 1) + " more 'tpa' of this file)" : "") +
+                           (b.lists.size() > 1 ? " (and in " + std::to_string(b.lists.size() - 1) +
+                                                     " more 'tpa' of this file)"
+                                               : "") +
                            "; read as BART reads them (at time t, from the key before the first key later than t "
                            "to that key)");
   s.notes = notes_;
