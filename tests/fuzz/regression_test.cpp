@@ -60,7 +60,7 @@ TEST_CASE("fuzz regressions: BART .aff", "[fuzz]") {
 }
 
 TEST_CASE("fuzz regressions: glTF", "[fuzz]") {
-  CHECK(replay("gltf", [](const std::string& p) { fuzz::exercise(load_gltf(p)); }) >= 1);
+  CHECK(replay("gltf", [](const std::string& p) { fuzz::exercise(load_gltf(p)); }) >= 4);
 }
 
 TEST_CASE("fuzz regressions: architecture file", "[fuzz]") {
