@@ -876,7 +876,7 @@ void scene_bounds(const Scene& s, Vec3d& lo, Vec3d& hi) {
       }
       continue;
     }
-    auto [it, fresh] = moving.try_emplace(o.motion.get(), Vec3d(kInf<double>), Vec3d(-kInf<double>));
+    const auto it = moving.try_emplace(o.motion.get(), Vec3d(kInf<double>), Vec3d(-kInf<double>)).first;
     for (const Vec3d& v : o.mesh.vertices) {
       it->second.first = glm::min(it->second.first, v);
       it->second.second = glm::max(it->second.second, v);
