@@ -56,6 +56,7 @@ class GltfChainMotion final : public Motion {
   explicit GltfChainMotion(const std::vector<GltfLocal>& chain);
   Affine<double> at(double frame) const override;
   bool animated() const override { return animated_; }
+  std::size_t links() const { return chain_.size(); }  // the work of one at()
 
  private:
   std::vector<GltfLocal> chain_;  // fixed runs folded into single matrix entries

@@ -860,10 +860,11 @@ void GltfReader::add_light(std::size_t node) {
 // The bounds of the scene over the whole animation: every object at every frame (a moving
 // object's local box, its 8 corners carried by its motion), so that a default camera keeps
 // in view what moves (Khronos' BoxAnimated lifts its inner box out of the frame-0 bounds).
-// Objects sharing a motion (one node's primitives) are carried together. Past
-// kMaxBoundsEvaluations motion evaluations the frames are sampled evenly, the last included.
+// Objects sharing a motion (one node's primitives) are carried together. Past kMaxBoundsWork
+// node transforms evaluated (frames x the links of every moving chain), the frames are
+// sampled evenly, the last included: a deep hierarchy over a million frames stays quick.
 void scene_bounds(const Scene& s, Vec3d& lo, Vec3d& hi) {
-  constexpr long long kMaxBoundsEvaluations = 1 << 20;
+  constexpr long long kMaxBoundsWork = 1 << 22;
   lo = Vec3d(kInf<double>);
   hi = Vec3d(-kInf<double>);
   std::map<const Motion*, std::pair<Vec3d, Vec3d>> moving;  // local box per animated motion
@@ -883,8 +884,13 @@ void scene_bounds(const Scene& s, Vec3d& lo, Vec3d& hi) {
     }
   }
   if (moving.empty()) return;
-  const long long frames = s.frame_count, motions = static_cast<long long>(moving.size());
-  const long long stride = std::max(1LL, (frames * motions + kMaxBoundsEvaluations - 1) / kMaxBoundsEvaluations);
+  long long links = 0;  // per frame
+  for (const auto& [motion, box] : moving) {
+    const auto* chain = dynamic_cast<const GltfChainMotion*>(motion);
+    links += chain ? static_cast<long long>(chain->links()) : 1;
+  }
+  const long long frames = s.frame_count;
+  const long long stride = std::max(1LL, (frames * links + kMaxBoundsWork - 1) / kMaxBoundsWork);
   std::vector<long long> sampled;
   for (long long f = 0; f < frames; f += stride) sampled.push_back(f);
   if (sampled.back() != frames - 1) sampled.push_back(frames - 1);
