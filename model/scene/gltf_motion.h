@@ -7,6 +7,7 @@
 #include "scene/motion.h"
 #include "scene/scene.h"
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -55,6 +56,7 @@ class GltfChainMotion final : public Motion {
   explicit GltfChainMotion(const std::vector<GltfLocal>& chain);
   Affine<double> at(double frame) const override;
   bool animated() const override { return animated_; }
+  std::size_t links() const { return chain_.size(); }  // the work of one at()
 
  private:
   std::vector<GltfLocal> chain_;  // fixed runs folded into single matrix entries
@@ -74,6 +76,21 @@ class GltfCameraPath final : public CameraPath {
  private:
   MotionPtr node_;
   double fov_y_deg_;
+};
+
+// A light that moves with its node: PointLight::position is where it is at frame 0, and this
+// motion translates it to where(frame) (a point light: its node's origin; a directional
+// light's stand-in: far out against the node's -Z).
+class GltfLightPath final : public Motion {
+ public:
+  GltfLightPath(std::function<Vec3d(double)> where, const Vec3d& at_frame0)
+      : where_(std::move(where)), at0_(at_frame0) {}
+  Affine<double> at(double frame) const override { return translate(where_(frame) - at0_); }
+  bool animated() const override { return true; }
+
+ private:
+  std::function<Vec3d(double)> where_;
+  Vec3d at0_;
 };
 
 }  // namespace oprt

@@ -14,12 +14,17 @@ struct Tangents {
   double in_prev, in_next;    // Tin  = in_prev (P2 - P1) + in_next (P3 - P2)
 };
 
-// The four TCB weights of segment t1..t2 with outer keys k0, k3 (see the header). Only
-// called for t2 > t1, so both denominators are positive: t2 - t0 >= t2 - t1 > 0 and
-// t3 - t1 >= t2 - t1 > 0.
+// The four TCB weights of segment t1..t2 with outer keys at t0 and t3 (see the header),
+// as BART computes them whatever the order of the times; a weight BART would divide by zero
+// for (its curve would be NaN there) is 0.
+double rescale(double t1, double t2, double span) {
+  const double a = 2 * (t2 - t1) / span;
+  return std::isfinite(a) ? a : 0.0;
+}
+
 Tangents tcb_weights(double t0, double t1, double t2, double t3, const KbParams& k1, const KbParams& k2) {
-  const double a1 = 2 * (t2 - t1) / (t2 - t0);
-  const double a2 = 2 * (t2 - t1) / (t3 - t1);
+  const double a1 = rescale(t1, t2, t2 - t0);
+  const double a2 = rescale(t1, t2, t3 - t1);
   Tangents w;
   w.out_prev = 0.5 * a1 * (1 - k1.tension) * (1 + k1.continuity) * (1 + k1.bias);
   w.out_next = 0.5 * a1 * (1 - k1.tension) * (1 - k1.continuity) * (1 - k1.bias);
@@ -37,26 +42,28 @@ void check_keys(const std::vector<Key>& keys) {
   if (keys.size() < 4)
     throw std::invalid_argument("a Kochanek-Bartels spline needs at least 4 keys, found " +
                                 std::to_string(keys.size()));
-  for (std::size_t i = 0; i < keys.size(); ++i) {
+  for (std::size_t i = 0; i < keys.size(); ++i)
     if (!std::isfinite(keys[i].t) || !finite_tcb(keys[i].tcb))
       throw std::invalid_argument("key " + std::to_string(i) + " is not finite");
-    if (i > 0 && keys[i].t < keys[i - 1].t)
-      throw std::invalid_argument("key times must not decrease (key " + std::to_string(i) + ")");
-  }
 }
 
-// Which segment and where in it: before the first segment the curve holds its start,
-// after the last its end; otherwise the first segment whose end lies beyond t. That
-// segment starts at or before t (its predecessor ended at or before t), so it has a
-// positive length and u is well defined; zero-length segments are stepped over.
+// reach[i] = max(t2 of segments 0 .. i): non-decreasing, so the first segment whose end
+// exceeds t, BART's linear search, is the first i with reach[i] > t, a binary search.
 template <typename Segment>
-std::pair<std::size_t, double> locate(const std::vector<Segment>& segs, double t) {
-  if (!(t > segs.front().t1)) return {0, 0.0};  // also catches a NaN t
+std::vector<double> reaches(const std::vector<Segment>& segs) {
+  std::vector<double> r;
+  for (const Segment& s : segs) r.push_back(r.empty() ? s.t2 : std::max(r.back(), s.t2));
+  return r;
+}
+
+// Which segment and where in it (BART's ComputeIAndU; see the header).
+template <typename Segment>
+std::pair<std::size_t, double> locate(const std::vector<Segment>& segs, const std::vector<double>& reach, double t) {
+  if (!(segs.front().t1 < t)) return {0, 0.0};  // also catches a NaN t
   if (!(t < segs.back().t2)) return {segs.size() - 1, 1.0};
-  const auto it = std::upper_bound(segs.begin(), segs.end(), t,
-                                   [](double x, const Segment& s) { return x < s.t2; });
-  const double u = (t - it->t1) / (it->t2 - it->t1);
-  return {static_cast<std::size_t>(it - segs.begin()), u};
+  const auto i = static_cast<std::size_t>(std::upper_bound(reach.begin(), reach.end(), t) - reach.begin());
+  const Segment& s = segs[i];
+  return {i, (t - s.t1) / (s.t2 - s.t1)};
 }
 
 Quatd from_axis_angle(const Vec3d& axis, double degrees) {
@@ -88,22 +95,20 @@ KbVecSpline::KbVecSpline(const std::vector<KbVecKey>& k) {
     s.t1 = k[i + 1].t;
     s.t2 = k[i + 2].t;
     const Vec3d d = p2 - p1;
-    Vec3d tout(0), tin(0);
-    if (s.t2 > s.t1) {
-      const Tangents w = tcb_weights(k[i].t, s.t1, s.t2, k[i + 3].t, k[i + 1].tcb, k[i + 2].tcb);
-      tout = (p1 - p0) * w.out_prev + d * w.out_next;
-      tin = d * w.in_prev + (p3 - p2) * w.in_next;
-    }
+    const Tangents w = tcb_weights(k[i].t, s.t1, s.t2, k[i + 3].t, k[i + 1].tcb, k[i + 2].tcb);
+    const Vec3d tout = (p1 - p0) * w.out_prev + d * w.out_next;
+    const Vec3d tin = d * w.in_prev + (p3 - p2) * w.in_next;
     s.c0 = p1;
     s.c1 = tout;
     s.c2 = d * 3.0 - tout * 2.0 - tin;
     s.c3 = d * -2.0 + tout + tin;
     segs_.push_back(s);
   }
+  reach_ = reaches(segs_);
 }
 
 Vec3d KbVecSpline::at(double t) const {
-  const auto [i, u] = locate(segs_, t);
+  const auto [i, u] = locate(segs_, reach_, t);
   const Segment& s = segs_[i];
   return s.c0 + (s.c1 + (s.c2 + s.c3 * u) * u) * u;
 }
@@ -137,37 +142,53 @@ Quatd quat_squad(const Quatd& p, const Quatd& a, const Quatd& b, const Quatd& q,
 
 KbRotSpline::KbRotSpline(const std::vector<KbRotKey>& k) {
   check_keys(k);
-  std::vector<Quatd> q;
+  std::vector<Quatd> raw;  // the keys as written
   for (const auto& key : k) {
     if (!all_finite(key.axis) || !std::isfinite(key.degrees)) throw std::invalid_argument("rotation key is not finite");
-    q.push_back(from_axis_angle(key.axis, key.degrees));
-    if (q.size() > 1 && qdot(q[q.size() - 2], q.back()) < 0) q.back() = scaled(q.back(), -1);
+    raw.push_back(from_axis_angle(key.axis, key.degrees));
   }
+  // signed[j]: key j as BART leaves it once segment j - 2 has put it in the hemisphere of
+  // key j - 1 (keys 0 and 1 are never flipped).
+  std::vector<Quatd> signed_q = raw;
+  for (std::size_t j = 2; j < signed_q.size(); ++j)
+    if (qdot(signed_q[j - 1], signed_q[j]) < 0) signed_q[j] = scaled(signed_q[j], -1);
   for (std::size_t i = 0; i + 3 < k.size(); ++i) {
-    const Quatd &q0 = q[i], &q1 = q[i + 1], &q2 = q[i + 2], &q3 = q[i + 3];
+    const Quatd &q0 = signed_q[i], &q1 = signed_q[i + 1], &q2 = signed_q[i + 2], &q3 = raw[i + 3];
     Segment s;
     s.t1 = k[i + 1].t;
     s.t2 = k[i + 2].t;
     s.p = q1;
     s.q = q2;
-    s.a = q1;
-    s.b = q2;
-    if (s.t2 > s.t1) {
-      const Tangents w = tcb_weights(k[i].t, s.t1, s.t2, k[i + 3].t, k[i + 1].tcb, k[i + 2].tcb);
-      const Quatd d = quat_log(glm::conjugate(q1) * q2);  // the step q1 -> q2, in q1's frame
-      const Quatd tout = plus(scaled(quat_log(glm::conjugate(q0) * q1), w.out_prev), scaled(d, w.out_next));
-      const Quatd tin = plus(scaled(d, w.in_prev), scaled(quat_log(glm::conjugate(q2) * q3), w.in_next));
-      s.a = q1 * quat_exp(scaled(minus(tout, d), 0.5));
-      s.b = q2 * quat_exp(scaled(minus(d, tin), 0.5));
-    }
+    const Tangents w = tcb_weights(k[i].t, s.t1, s.t2, k[i + 3].t, k[i + 1].tcb, k[i + 2].tcb);
+    const Quatd d = quat_log(glm::conjugate(q1) * q2);  // the step q1 -> q2, in q1's frame
+    const Quatd tout = plus(scaled(quat_log(glm::conjugate(q0) * q1), w.out_prev), scaled(d, w.out_next));
+    const Quatd tin = plus(scaled(d, w.in_prev), scaled(quat_log(glm::conjugate(q2) * q3), w.in_next));
+    s.a = q1 * quat_exp(scaled(minus(tout, d), 0.5));
+    s.b = q2 * quat_exp(scaled(minus(d, tin), 0.5));
     segs_.push_back(s);
   }
+  reach_ = reaches(segs_);
 }
 
 Quatd KbRotSpline::at(double t) const {
-  const auto [i, u] = locate(segs_, t);
+  const auto [i, u] = locate(segs_, reach_, t);
   const Segment& s = segs_[i];
   return normalized(quat_squad(s.p, s.a, s.b, s.q, u));
+}
+
+KbTimeQuirks kb_time_quirks(const std::vector<double>& t) {
+  KbTimeQuirks q;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    if (t[i] < t[i - 1]) {
+      if (!q.backwards) q.backwards = i;
+      ++q.backwards_count;
+    }
+    if (t[i] == t[i - 1] && i >= 2 && i + 1 < t.size()) {
+      if (!q.repeat) q.repeat = i;
+      ++q.repeat_count;
+    }
+  }
+  return q;
 }
 
 Affine<double> rotation_matrix(const Quatd& q) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 namespace oprt {
@@ -15,7 +16,8 @@ namespace {
 constexpr double kMaxCoordinate = 1e18;
 }
 
-Scene load_scene(const std::string& path, const LoadOptions& options) {
+namespace {
+Scene load_by_extension(const std::string& path, const LoadOptions& options) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   require_regular_file(path);
@@ -23,6 +25,14 @@ Scene load_scene(const std::string& path, const LoadOptions& options) {
   if (ext == ".aff") return load_aff(path, options.aff);
   if (ext == ".gltf" || ext == ".glb") return load_gltf(path);
   throw InputError(path, "", "unknown scene format \"" + ext + "\" (expected .json, .aff, .gltf or .glb)");
+}
+}  // namespace
+
+Scene load_scene(const std::string& path, const LoadOptions& options) {
+  Scene s = load_by_extension(path, options);
+  if (options.print_warnings)
+    for (const std::string& w : s.warnings) std::fprintf(stderr, "oprt: warning: %s\n", w.c_str());
+  return s;
 }
 
 void validate_scene(const Scene& s) {

@@ -25,6 +25,7 @@ extern SceneLimits scene_limits;
 // --split: testbench/options.h).
 struct LoadOptions {
   AffOptions aff;
+  bool print_warnings = true;  // Scene::warnings to stderr, each as "oprt: warning: ..."
 };
 
 Scene load_scene(const std::string& path, const LoadOptions& options = {});

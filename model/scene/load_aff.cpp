@@ -19,6 +19,9 @@
 //   a START END FRAMES           animation range
 //   # or % to the end of the line: comment
 //
+// Key times may go backwards or repeat, as BART's reader allows: such a list is evaluated as
+// BART's code evaluates it (kb_spline.h; Anim::visible; tpa_corners), with one warning.
+//
 // The reader is token based: a statement is its keyword followed by whitespace-separated
 // values, wherever the line breaks fall. The current material is global state, as in
 // BART: it survives the end of a { } block and carries into and out of included files.
@@ -245,17 +248,21 @@ struct Anim {
   int line = 0;
   std::optional<KbVecSpline> transl, scale;
   std::optional<KbRotSpline> rot;
-  std::vector<std::pair<double, bool>> visibility;
+  std::vector<std::pair<double, bool>> visibility;  // in the order written
   bool moves() const { return transl || rot || scale; }
-  // A visibility key holds from its time until the next key; before the first key the
-  // group is visible (BART's objects are visible unless a key hides them).
+  // BART's _GetVisibility, whatever the order of the keys: visible until the first key;
+  // from there on, the flag of the key the walk through the list stops at.
   bool visible(double t) const {
     bool v = true;
-    for (const auto& [time, flag] : visibility) {
-      if (time > t) break;
+    double prev = -kInf<double>;
+    for (std::size_t q = 0; q < visibility.size(); ++q) {
+      const auto& [time, flag] = visibility[q];
+      if (t >= prev && t < time) return v;
+      if (t >= time && q + 1 == visibility.size()) return flag;
       v = flag;
+      prev = time;
     }
-    return v;
+    return true;
   }
 
   // BART's _GetMatrix: T R S.
@@ -338,10 +345,13 @@ class AffCamera final : public CameraPath {
 };
 
 // `tpa`: each triangle's three vertices are interpolated linearly between its keys and held
-// before the first and after the last (BART's viGetAnimatedTriangle). Vertex 3k + j is
-// corner j of triangle k.
+// at or before the first key and at or after the last (BART's viGetAnimatedTriangle). In
+// between, BART interpolates from key b - 1 to key b, b the first key later than t, whatever
+// the order of the keys: key b - 1 is at or before t, so keys at one time are stepped over
+// (never divided by). Vertex 3k + j is corner j of triangle k.
 struct TpaTrack {
   std::vector<double> times;       // per key
+  std::vector<double> reach;       // per key: the latest time of its triangle's keys up to it
   std::vector<Vec3d> corners;      // 3 per key
   std::vector<std::uint32_t> first;  // per triangle: its first key; keys run to first[k + 1]
 };
@@ -358,8 +368,8 @@ void tpa_corners(const TpaTrack& tr, double t, std::vector<Vec3d>& out) {
     } else if (!(t < tr.times[hi])) {
       a = b = hi;
     } else {
-      // First key after t; keys at equal times are stepped over (never divided by).
-      b = std::upper_bound(tr.times.begin() + lo, tr.times.begin() + hi + 1, t) - tr.times.begin();
+      // The first key later than t is the first whose reach is (reach never decreases).
+      b = std::upper_bound(tr.reach.begin() + lo, tr.reach.begin() + hi + 1, t) - tr.reach.begin();
       a = b - 1;
       s = (t - tr.times[a]) / (tr.times[b] - tr.times[a]);
     }
@@ -544,6 +554,14 @@ class AffReader {
   void note(const std::string& n) {
     if (note_set_.insert(n).second) notes_.push_back(n);
   }
+  // What the file gets wrong that BART tolerates: said once (a file included twice says it
+  // once), as "FILE: line N: what and how it is read".
+  void warn(const std::string& file, int line, const std::string& text) {
+    const std::string w = file + ": line " + std::to_string(line) + ": " + text;
+    if (warning_set_.insert(w).second) warnings_.push_back(w);
+  }
+  void time_quirks(const std::string& file, int line, const std::string& list, const std::vector<double>& times,
+                   const std::vector<int>& lines, bool steps);
   std::uint32_t material() {
     if (current_material_ < 0) {
       note("geometry before any material ('f' / 'fm') uses a default grey");
@@ -573,7 +591,48 @@ class AffReader {
   std::vector<std::string> including_;  // the include chain, for cycle errors
   std::vector<std::string> notes_;
   std::set<std::string> note_set_;
+  std::vector<std::string> warnings_;
+  std::set<std::string> warning_set_;
+  struct TpaBackwards {  // the first key that goes back in the first such 'tpa' of a file
+    int line, key_line;
+    std::size_t key, keys;
+    double time, after;
+    std::set<int> lists;  // lines of the file's 'tpa' statements whose times go backwards
+  };
+  std::map<std::string, TpaBackwards> tpa_backwards_;  // by file
 };
+
+std::string time_text(double t) {
+  std::ostringstream s;
+  s << t;
+  return s.str();
+}
+
+// One warning per key list whose times go backwards or repeat inside the curve (see
+// kb_time_quirks), naming the first key of each kind. `steps`: visibility keys, where a
+// repeated time is harmless (the later key holds from then on) and only going back counts.
+void AffReader::time_quirks(const std::string& file, int line, const std::string& list,
+                            const std::vector<double>& times, const std::vector<int>& lines, bool steps) {
+  KbTimeQuirks q = kb_time_quirks(times);
+  if (steps) q.repeat = 0;
+  if (!q.backwards && !q.repeat) return;
+  auto key = [&](std::size_t i) {
+    return "key " + std::to_string(i + 1) + " of " + std::to_string(times.size()) + " (line " +
+           std::to_string(lines[i]) + ") at time " + time_text(times[i]);
+  };
+  auto more = [](std::size_t count) {
+    return count > 1 ? " (and " + std::to_string(count - 1) + " more like it)" : std::string();
+  };
+  std::string what;
+  if (q.backwards)
+    what = "times go backwards: " + key(q.backwards) + " after " + time_text(times[q.backwards - 1]) +
+           more(q.backwards_count);
+  if (q.repeat) what += std::string(what.empty() ? "" : "; ") + "a time repeats: " + key(q.repeat) + more(q.repeat_count);
+  const std::string how = steps ? "read as BART reads them (its _GetVisibility walk through the list as written)"
+                                : "read as BART reads them (at time t, the first spline segment that ends after t; "
+                                  "the curve jumps where a segment would run backwards or have no length)";
+  warn(file, line, list + ": " + what + "; " + how);
+}
 
 std::uint32_t AffReader::add_material(const MaterialInfo& mi) {
   const std::array<double, 7> key{mi.m.diffuse.x, mi.m.diffuse.y, mi.m.diffuse.z, mi.m.specular.x,
@@ -900,12 +959,12 @@ void AffReader::animated_triangle(Cursor& c, const Stmt& s) {
   TpaTrack& tr = tpa_[{node.context, material()}];
   if (tr.first.empty()) tr.first.push_back(0);
   const auto first_key = tr.times.size();
+  std::optional<TpaBackwards> back;  // the first key of this list whose time goes back
   for (std::size_t k = 0; k < n; ++k) {
     const int tline = c.line();
     const double time = c.number(s, "key time");
-    if (tr.times.size() > first_key && time < tr.times.back())
-      c.fail(tline, "'tpa' key times must not decrease (" + std::to_string(time) + " after " +
-                        std::to_string(tr.times.back()) + ")");
+    if (k > 0 && time < tr.times.back() && !back) back = TpaBackwards{s.line, tline, k, n, time, tr.times.back(), {}};
+    tr.reach.push_back(tr.times.size() > first_key ? std::max(tr.reach.back(), time) : time);
     tr.times.push_back(time);
     for (int j = 0; j < 3; ++j) {
       // Affine maps commute with linear interpolation: the enclosing static transforms
@@ -916,6 +975,8 @@ void AffReader::animated_triangle(Cursor& c, const Stmt& s) {
   }
   tr.first.push_back(static_cast<std::uint32_t>(tr.times.size()));
   note("vertex normals ignored (flat shading)");
+  if (back)  // one warning per file, however many of its triangles do this (see read())
+    tpa_backwards_.try_emplace(c.file(), *back).first->second.lists.insert(s.line);
 }
 
 void AffReader::sphere(Cursor& c, const Stmt& s) {
@@ -960,7 +1021,8 @@ void AffReader::include(Cursor& c, const Stmt& s) {
       (p.is_absolute() ? p : fs::path(c.file()).parent_path() / p).lexically_normal().string();
   std::error_code ec;
   if (!fs::is_regular_file(resolved, ec))
-    c.fail(s.line, "cannot open included file " + shown(name) + " (looked for " + resolved + ")");
+    c.fail(s.line, "cannot open included file " + shown(name) + " (looked for " +
+                       (resolved.size() > 200 ? resolved.substr(0, 200) + "..." : resolved) + ")");
   const std::string key = fs::weakly_canonical(resolved, ec).string();
   for (const std::string& f : including_) {
     if (fs::weakly_canonical(f, ec).string() == key) {
@@ -998,14 +1060,12 @@ void AffReader::keyframes(Cursor& c, const Stmt& s) {
       c.fail(at, "'" + k + "' of 'k " + a->name + "' needs at least 4 keyframes (the first and the last only "
                  "shape the curve's ends), found " + std::to_string(n));
     if (k == "visibility" && n < 1) c.fail(at, "'visibility' of 'k " + a->name + "' needs at least 1 keyframe");
-    double prev = -kInf<double>;
+    std::vector<double> times;  // as written: BART takes them in any order (see time_quirks)
+    std::vector<int> lines;
     auto time = [&]() {
-      const int tl = c.line();
-      const double t = c.number(ks, "key time");
-      if (t < prev)
-        c.fail(tl, "keyframe times must not decrease (" + std::to_string(t) + " after " + std::to_string(prev) + ")");
-      prev = t;
-      return t;
+      lines.push_back(c.line());
+      times.push_back(c.number(ks, "key time"));
+      return times.back();
     };
     auto tcb = [&]() {
       KbParams p;
@@ -1042,6 +1102,7 @@ void AffReader::keyframes(Cursor& c, const Stmt& s) {
         a->visibility.push_back({t, v != 0});
       }
     }
+    time_quirks(c.file(), kind.line, "'" + k + "' keys of 'k " + a->name + "'", times, lines, k == "visibility");
   }
   // The same file included twice (BART's kitchen includes the rear-wheel file again inside
   // each steering front wheel) defines the same keyframes again: that is one definition.
@@ -1219,7 +1280,17 @@ Scene AffReader::read(const std::string& path) {
   for (const auto& [name, a] : anims_)
     if (!used_anims.count(name)) note("keyframes 'k " + name + "' animate nothing (no 'x " + name + "')");
 
+  for (const auto& [file, b] : tpa_backwards_)
+    warn(file, b.line, "'tpa' key times go backwards: key " + std::to_string(b.key + 1) + " of " +
+                           std::to_string(b.keys) + " (line " + std::to_string(b.key_line) + ") at time " +
+                           time_text(b.time) + " after " + time_text(b.after) +
+                           (b.lists.size() > 1 ? " (and in " + std::to_string(b.lists.size() - 1) +
+                                                     " more 'tpa' of this file)"
+                                               : "") +
+                           "; read as BART reads them (at time t, from the key before the first key later than t "
+                           "to that key)");
   s.notes = notes_;
+  s.warnings = warnings_;
   validate_scene(s);
   return s;
 }

@@ -17,14 +17,18 @@
 //   drive the same node property the first (lowest animation, then channel index) wins and a
 //   note names the other. Frame f is time f / 30 s; frame_count covers the last key.
 // - Camera: the first perspective camera met walking the scene (depth first, in order); eye at
-//   the node origin, looking down -Z, up +Y; yfov -> fov_y_deg; the image is 256 rows high and
-//   round(256 * aspectRatio) wide (256 x 256 without an aspect ratio). No camera: a default one
-//   (45 degrees) looks down -Z at the bounds of the scene at frame 0.
-// - Lights (KHR_lights_punctual): point lights at their node's position at frame 0; spot lights
-//   as point lights; directional lights as a point light 1000 scene radii away against their
-//   direction. oprt lights do not fall off with distance, so intensities are relative: colour =
-//   colour * intensity / (largest intensity in the scene). No light: one white light near the
-//   camera.
+//   the node origin, looking down -Z, up +Y, moving with the node's animated chain; yfov ->
+//   fov_y_deg; the image is 256 rows high and round(256 * aspectRatio) wide (256 x 256 without
+//   an aspect ratio). No camera: a default one (45 degrees) looks down -Z at the bounds of the
+//   whole animation (every object at every frame: scene_bounds).
+// - Lights (KHR_lights_punctual): point lights at their node's position, following the node
+//   frame by frame when it is animated; spot lights as point lights; directional lights as a
+//   point light 1000 scene radii away against their node's -Z (turning with it). oprt lights
+//   do not fall off with distance, so intensities are relative: colour = colour * intensity /
+//   (largest intensity in the scene). No light: one white light near the camera.
+// - Buffers: a base64 data URI, a relative file name (percent-encoded) beside the .gltf, or the
+//   GLB's binary chunk; anything else at a uri is an InputError there. Images are never opened
+//   (textures are ignored), so an image uri cannot fail.
 // - Materials: pbrMetallicRoughness factors (textures ignored) mapped to Phong as
 //   diffuse = base (1 - metallic / 2), specular = mix(0.2, base, metallic) (1 - roughness),
 //   shininess = 2 / a^2 - 2 with a = roughness^2 (the Blinn-Phong <-> GGX correspondence),
@@ -151,6 +155,23 @@ std::string percent_decode(const std::string& s) {
   return out;
 }
 
+// A string for a message, in quotes, cut to its first 60 bytes (and its length, when longer),
+// control bytes written as \xNN.
+std::string quoted_start(const std::string& s) {
+  std::string out = "\"";
+  for (std::size_t i = 0; i < s.size() && i < 60; ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c < 0x20 || c == 0x7F) {
+      static const char* hex = "0123456789ABCDEF";
+      out += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+    } else {
+      out += s[i];
+    }
+  }
+  if (s.size() <= 60) return out + "\"";
+  return out + "...\" (" + std::to_string(s.size()) + " characters)";
+}
+
 bool read_file_bytes(const std::string& path, std::vector<std::uint8_t>& out) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
@@ -202,7 +223,8 @@ struct LightSource {
   std::string type;
   Vec3d color{1};
   double intensity = 1;
-  Vec3d position{0}, direction{0, 0, -1};
+  Vec3d position{0}, direction{0, 0, -1};  // at frame 0
+  MotionPtr node;  // the node's motion when it is animated, else null
 };
 
 class GltfReader {
@@ -228,6 +250,7 @@ class GltfReader {
 
   // ---- binary data
   const std::vector<std::uint8_t>& buffer(std::size_t i);
+  void read_uri(const JsonIn& uri, std::vector<std::uint8_t>& out) const;
   Accessor accessor(std::size_t i, const std::string& use);
   std::vector<double> read_floats(std::size_t i, int width, bool allow_normalized, const std::string& use);
   std::vector<std::uint32_t> read_indices(std::size_t i, const std::string& use);
@@ -325,6 +348,45 @@ void GltfReader::parse_container() {
   if (!have_json) throw InputError(file_, "GLB header", "the file has no JSON chunk");
 }
 
+// A buffer's uri: a base64 data URI, or a file name relative to the .gltf (percent-encoded).
+// Whatever else it holds -- a mangled data prefix, a name longer than any file system takes,
+// a NUL byte -- ends in an InputError at the uri's place, never in an exception of the file
+// system library (whose message would echo the whole string).
+void GltfReader::read_uri(const JsonIn& u, std::vector<std::uint8_t>& out) const {
+  namespace fs = std::filesystem;
+  const std::string uri = u.string();
+  if (uri.rfind("data:", 0) == 0) {
+    const auto comma = uri.find(";base64,");
+    if (comma == std::string::npos) u.fail("only base64 data URIs are supported (no \";base64,\" after \"data:\")");
+    std::size_t bad = 0;
+    if (!decode_base64(uri, comma + 8, out, bad))
+      u.fail("invalid base64 character at position " + std::to_string(bad) + " of the data URI");
+    return;
+  }
+  if (uri.empty()) u.fail("the uri is empty: neither a data URI nor a file name");
+  if (uri.find("://") != std::string::npos) u.fail("only relative file paths and data URIs are supported");
+  const std::string name = percent_decode(uri);
+  const std::string shown = quoted_start(name);
+  if (name.find('\0') != std::string::npos) u.fail("the file name " + shown + " contains a NUL byte");
+  // Linux's limits: 255 bytes a path component, 4,096 a path (PATH_MAX). Refused here, they
+  // cannot be a file name; under them the file system answers with an error code.
+  constexpr std::size_t kMaxName = 255, kMaxPath = 4096;
+  for (const fs::path& part : fs::path(name))
+    if (part.native().size() > kMaxName)
+      u.fail("neither a data URI nor a usable file name: " + shown + " has a part of " +
+             std::to_string(part.native().size()) + " bytes (at most " + std::to_string(kMaxName) + ")");
+  const fs::path path = (fs::path(file_).parent_path() / name).lexically_normal();
+  if (path.native().size() > kMaxPath)
+    u.fail("neither a data URI nor a usable file name: " + shown + " is " + std::to_string(name.size()) +
+           " bytes long (a path has at most " + std::to_string(kMaxPath) + ")");
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::is_regular_file(st))
+    u.fail("cannot open buffer file " + quoted_start(path.string()) +
+           (ec ? ": " + ec.message() : fs::exists(st) ? ": not a regular file" : ": no such file"));
+  if (!read_file_bytes(path.string(), out)) u.fail("cannot read buffer file " + quoted_start(path.string()));
+}
+
 const std::vector<std::uint8_t>& GltfReader::buffer(std::size_t i) {
   auto found = buffers_.find(i);
   if (found != buffers_.end()) return found->second;
@@ -332,20 +394,7 @@ const std::vector<std::uint8_t>& GltfReader::buffer(std::size_t i) {
   const auto length = static_cast<std::size_t>(b.at("byteLength").integer(1, 1LL << 53));
   std::vector<std::uint8_t> data;
   if (auto u = b.find("uri")) {
-    const std::string uri = u->string();
-    if (uri.rfind("data:", 0) == 0) {
-      const auto comma = uri.find(";base64,");
-      if (comma == std::string::npos) u->fail("only base64 data URIs are supported");
-      std::size_t bad = 0;
-      if (!decode_base64(uri, comma + 8, data, bad))
-        u->fail("invalid base64 character at position " + std::to_string(bad) + " of the data URI");
-    } else {
-      namespace fs = std::filesystem;
-      if (uri.find("://") != std::string::npos) u->fail("only relative file paths and data URIs are supported");
-      const std::string path = (fs::path(file_).parent_path() / percent_decode(uri)).lexically_normal().string();
-      if (!fs::is_regular_file(path) || !read_file_bytes(path, data))
-        u->fail("cannot open buffer file \"" + path + "\"");
-    }
+    read_uri(*u, data);
   } else {
     if (!glb_) b.fail("buffer has no uri (only a .glb may leave it out, for its binary chunk)");
     if (i != 0) b.fail("buffer has no uri: only buffer 0 of a .glb refers to the binary chunk");
@@ -799,9 +848,7 @@ void GltfReader::add_light(std::size_t node) {
   const Affine<double> at0 = m->at(0);
   src.position = at0.translation();
   src.direction = glm::normalize(at0.vector({0, 0, -1}));
-  if (m->animated())
-    notes_.add("moving light", "light on node " + std::to_string(node) +
-                                   " is animated; oprt lights are fixed: it stays where it is at frame 0");
+  if (m->animated()) src.node = m;
   if (src.type == "spot")
     notes_.add("spot light", "spot light " + l.place() + " treated as a point light (its cone is ignored)");
   if (src.type == "directional")
@@ -810,17 +857,59 @@ void GltfReader::add_light(std::size_t node) {
   lights_.push_back(src);
 }
 
-void GltfReader::finish_lights_and_camera(Scene& s) {
-  // Bounds of the scene at frame 0, for the default camera and the far "directional" lights.
-  Vec3d lo(kInf<double>), hi(-kInf<double>);
+// The bounds of the scene over the whole animation: every object at every frame (a moving
+// object's local box, its 8 corners carried by its motion), so that a default camera keeps
+// in view what moves (Khronos' BoxAnimated lifts its inner box out of the frame-0 bounds).
+// Objects sharing a motion (one node's primitives) are carried together. Past kMaxBoundsWork
+// node transforms evaluated (frames x the links of every moving chain), the frames are
+// sampled evenly, the last included: a deep hierarchy over a million frames stays quick.
+void scene_bounds(const Scene& s, Vec3d& lo, Vec3d& hi) {
+  constexpr long long kMaxBoundsWork = 1 << 22;
+  lo = Vec3d(kInf<double>);
+  hi = Vec3d(-kInf<double>);
+  std::map<const Motion*, std::pair<Vec3d, Vec3d>> moving;  // local box per animated motion
   for (const Object& o : s.objects) {
-    const Affine<double> m = o.motion->at(0);
+    if (!o.motion->animated()) {
+      const Affine<double> m = o.motion->at(0);
+      for (const Vec3d& v : o.mesh.vertices) {
+        lo = glm::min(lo, m.point(v));
+        hi = glm::max(hi, m.point(v));
+      }
+      continue;
+    }
+    const auto it = moving.try_emplace(o.motion.get(), Vec3d(kInf<double>), Vec3d(-kInf<double>)).first;
     for (const Vec3d& v : o.mesh.vertices) {
-      const Vec3d w = m.point(v);
-      lo = glm::min(lo, w);
-      hi = glm::max(hi, w);
+      it->second.first = glm::min(it->second.first, v);
+      it->second.second = glm::max(it->second.second, v);
     }
   }
+  if (moving.empty()) return;
+  long long links = 0;  // per frame
+  for (const auto& [motion, box] : moving) {
+    const auto* chain = dynamic_cast<const GltfChainMotion*>(motion);
+    links += chain ? static_cast<long long>(chain->links()) : 1;
+  }
+  const long long frames = s.frame_count;
+  const long long stride = std::max(1LL, (frames * links + kMaxBoundsWork - 1) / kMaxBoundsWork);
+  std::vector<long long> sampled;
+  for (long long f = 0; f < frames; f += stride) sampled.push_back(f);
+  if (sampled.back() != frames - 1) sampled.push_back(frames - 1);
+  for (long long f : sampled)
+    for (const auto& [motion, box] : moving) {
+      const Affine<double> m = motion->at(static_cast<double>(f));
+      for (int c = 0; c < 8; ++c) {
+        const Vec3d p = m.point({c & 1 ? box.second.x : box.first.x, c & 2 ? box.second.y : box.first.y,
+                                 c & 4 ? box.second.z : box.first.z});
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+      }
+    }
+}
+
+void GltfReader::finish_lights_and_camera(Scene& s) {
+  // Bounds of the whole animation, for the default camera and the far "directional" lights.
+  Vec3d lo, hi;
+  scene_bounds(s, lo, hi);
   const Vec3d centre = (lo + hi) * 0.5;
   double radius = 0.5 * std::sqrt(dot3(hi - lo, hi - lo));
   if (!(radius > 0)) radius = 1;
@@ -831,14 +920,23 @@ void GltfReader::finish_lights_and_camera(Scene& s) {
     c.eye = centre + Vec3d(0, 0, radius / std::sin(glm::radians(c.fov_y_deg / 2)));
     c.up = Vec3d(0, 1, 0);
     s.camera = std::make_shared<FixedCamera>(c);
-    notes_.add("default camera", "no perspective camera: a default one (45 degrees) looks down -Z at the scene's bounds at frame 0");
+    notes_.add("default camera", "no perspective camera: a default one (45 degrees) looks down -Z at the bounds of "
+                                 "the whole animation");
   }
   double brightest = 0;
   for (const LightSource& l : lights_) brightest = std::max(brightest, l.intensity);
   for (const LightSource& l : lights_) {
     PointLight p;
-    p.position = l.type == "directional" ? centre - l.direction * (1000 * radius) : l.position;
+    const double far = 1000 * radius;
+    p.position = l.type == "directional" ? centre - l.direction * far : l.position;
     p.color = brightest > 0 ? l.color * (l.intensity / brightest) : Vec3d(0);
+    if (l.node) {  // it follows its node, frame by frame
+      const MotionPtr node = l.node;
+      std::function<Vec3d(double)> where = [node](double f) { return node->at(f).translation(); };
+      if (l.type == "directional")
+        where = [node, centre, far](double f) { return centre - glm::normalize(node->at(f).vector({0, 0, -1})) * far; };
+      p.motion = std::make_shared<GltfLightPath>(where, p.position);
+    }
     s.lights.push_back(p);
   }
   if (!lights_.empty() && brightest != 1)
@@ -850,7 +948,9 @@ void GltfReader::finish_lights_and_camera(Scene& s) {
     const Vec3d right = glm::normalize(cross3(forward, c.up));
     const Vec3d up = cross3(right, forward);
     const double d = std::max(std::sqrt(dot3(centre - c.eye, centre - c.eye)), radius);
-    s.lights.push_back({c.eye + (up + right) * (0.5 * d), Vec3d(1), nullptr});
+    PointLight p;
+    p.position = c.eye + (up + right) * (0.5 * d);
+    s.lights.push_back(p);
     notes_.add("default light", "no lights: one white light above and to the right of the camera");
   }
 }

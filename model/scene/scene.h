@@ -101,6 +101,9 @@ struct Scene {
   CameraPathPtr camera;
   int frame_count = 1;  // frames 0 .. frame_count - 1
   std::vector<std::string> notes;  // what a loader simplified, said once
+  // What the file gets wrong that the loader tolerates, as the format's reference reader
+  // does, each "FILE: PLACE: what and how it is read" (load_scene prints them to stderr).
+  std::vector<std::string> warnings;
 
   std::size_t triangle_count() const;
 };

@@ -501,3 +501,30 @@ TEST_CASE("cli: a render killed outright never leaves a truncated file under a f
   CHECK(stats["frames"].size() >= 2);
   CHECK(frames.size() >= stats["frames"].size());  // stats are written after a frame's images
 }
+
+TEST_CASE("cli: a tolerated BART quirk warns on stderr, a bad glTF uri exits 2 with a short message",
+          "[cli][issue15]") {
+  const fs::path d = temp_dir("quirks");
+  // A rotation list that starts again, as BART's robots write one: it loads, with a warning.
+  std::ofstream(d / "gun.aff") << "v from 0 0 5 at 0 0 0 up 0 1 0 angle 45 hither 0.1 resolution 8 8\n"
+                                  "a 0 4 5\nl 0 0 5\nf 1 1 1 1 0 1 0 1\n"
+                                  "x gun\n{\np 3\n0 0 0\n1 0 0\n0 1 0\n}\n"
+                                  "k gun\n{\nrot 6\n0 0 0 1 0 0 0 0\n1 0 0 1 90 0 0 0\n2 0 0 1 180 0 0 0\n"
+                                  "1 0 0 1 90 0 0 0\n2 0 0 1 180 0 0 0\n3 0 0 1 270 0 0 0\n}\n";
+  Result r = run_oprt("info " + (d / "gun.aff").string());
+  CHECK(r.status == 0);
+  CHECK(r.output.find("oprt: warning: " + (d / "gun.aff").string() + ": line 14: 'rot' keys of 'k gun': times go "
+                      "backwards: key 4 of 6 (line 18) at time 1 after 2") != std::string::npos);
+
+  // A buffer uri of 5,000 characters: the loader's own error at /buffers/0/uri, not a 19 KB
+  // std::filesystem message with exit status 1.
+  std::ifstream in(std::string(OPRT_SOURCE_DIR) + "/tests/data/gltf/animated.gltf");
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["buffers"][0]["uri"] = std::string(5000, 'a');
+  std::ofstream(d / "long.gltf") << doc.dump();
+  r = run_oprt("info " + (d / "long.gltf").string());
+  CHECK(r.status == 2);
+  CHECK(r.output.find((d / "long.gltf").string() + ": /buffers/0/uri: neither a data URI nor a usable file name") !=
+        std::string::npos);
+  CHECK(r.output.size() < 500);
+}

@@ -4,6 +4,7 @@
 #include "scene/load.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  oprt::scene_limits.triangles = oprt::fuzz::kTriangleLimit;
   return oprt::fuzz::run(data, size, "scene.json",
                          [](const std::string& p) { oprt::fuzz::exercise(oprt::load_oprt_json(p)); });
 }
