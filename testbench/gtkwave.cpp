@@ -32,7 +32,7 @@ void write_gtkwave_save(const std::string& vcd_path, const std::string& save_pat
   const fs::path filter = save.parent_path() / (save.stem().string() + "_state.txt");
   write_atomically(filter.string(), [&](const std::string& tmp) {
     std::ofstream f(tmp);
-    f << "0 idle\n1 sphere\n2 transform\n3 primitive\n4 stall\n5 box\n";
+    f << "0 idle\n1 sphere\n2 transform\n3 primitive\n4 stall\n5 box\n6 node\n";
     f.close();
     if (!f) throw std::runtime_error("cannot write " + tmp);
   });

@@ -30,6 +30,7 @@ Arch resolve_arch(const RenderOptions& o) {
   if (o.balance) a.balance = *o.balance;
   if (o.subdivide) a.subdivide = *o.subdivide;
   if (o.accel) a.accel = *o.accel;
+  if (o.top) a.top = *o.top;
   if (o.kernel) {
     const auto k = kernel_named(*o.kernel);
     if (!k) throw InputError("--kernel", *o.kernel, "unknown kernel (expected moller or watertight)");

@@ -35,6 +35,7 @@ struct FrameStats {
   std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0;
   std::uint64_t memory_load_bytes = 0;  // geometry moved into object memories this frame
   std::uint64_t memory_load_cycles = 0;  // bus cycles of that move, inside the makespan (0 on an ideal bus)
+  std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;  // --top bvh: the GPP's work on the units' trees
   std::uint64_t image_hash = 0;
   std::vector<UnitFrameStats> units;
   std::vector<std::uint64_t> sphere_cycles;  // per sphere: busy cycles spent on it (whichever unit)

@@ -126,12 +126,16 @@ class Testbench : public sc_module {
     run.bus_transfers = engine_->bus().transfers();
     run.memory_load_bytes = g.memory_load_bytes;
     run.memory_load_cycles = g.memory_load_cycles;
+    run.refit_nodes = g.refit_nodes;
+    run.refit_cycles = g.refit_cycles;
+    run.built_nodes = g.built_nodes;
     for (std::size_t u = 0; u < engine_->units(); ++u) {
       hw::UnitStats& s = engine_->unit(u).stats();
       hw::UnitRun r;
       r.cycles = s.cycles;
       r.rays = s.rays[0] + s.rays[1];
       r.memory_bytes = engine_->memory(u).bytes_read();
+      for (int k = 0; k < kRayKinds; ++k) r.node_tests[k] = engine_->functional().unit_node_tests[u][k];
       run.units.push_back(r);
     }
     run.per_sphere = engine_->functional().per_sphere;

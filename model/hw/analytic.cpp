@@ -55,10 +55,15 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
 
   const FrameSetup<T> setup = setup_frame(scene_, geom_, cmd.frame, cmd.to_world, cmd.camera);
   std::vector<IuRegisters<T>> regs(units);
+  trees_.resize(arch_.top_tree() ? units : 0);
   for (std::size_t u = 0; u < units; ++u) {
     regs[u].load(setup, geom_, assignment_[u]);
-    g = transfer(g, assignment_[u].size() * Bytes<T>::sphere_config);
+    if (arch_.top_tree()) out.refit_nodes += load_top(regs[u], trees_[u], assignment_[u], setup, geom_, &out.built_nodes);
   }
+  out.refit_cycles = out.refit_nodes * static_cast<std::uint64_t>(arch_.gpp.cycles_per_node);
+  g += out.refit_cycles;  // the GPP refits the trees before it writes the registers (Gpp::render_frame)
+  for (std::size_t u = 0; u < units; ++u)
+    g = transfer(g, assignment_[u].size() * Bytes<T>::sphere_config + regs[u].top.size() * Bytes<T>::top_node);
   const CameraRays camera(cmd.camera, cmd.width, cmd.height);
   const Shader<T> shader(scene_, setup);
   trace_functional(frame_, geom_, regs, camera, shader, arch_, cmd.width, cmd.height);
@@ -80,7 +85,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     // Every later request is at or after g (the GPP's time never decreases, and a unit
     // answers after the ray arrived): grants that ended by then can no longer matter.
     bus.forget_before(g);
-    g = transfer(g, Bytes<T>::ray);
+    g = transfer(g, Bytes<T>::ray_bytes(arch_.top_tree()));
     const Cycles avail = g;
     const RayKind kind = f.rays[id].kind;
     ++out.rays[static_cast<int>(kind)];
@@ -133,11 +138,13 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   *cmd.image = f.image;
   out.per_sphere = f.per_sphere;
   for (std::size_t u = 0; u < units; ++u)
-    for (int k = 0; k < kRayKinds; ++k)
+    for (int k = 0; k < kRayKinds; ++k) {
+      out.units[u].node_tests[k] = f.unit_node_tests[u][k];
       for (std::uint32_t s : assignment_[u]) {
         const WorkCounts& w = f.per_sphere[k][s];
         out.units[u].memory_bytes += w.tri_tests() * Bytes<T>::triangle(arch_.kernel) + w.box_tests * Bytes<T>::node;
       }
+    }
   return out;
 }
 

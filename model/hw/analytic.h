@@ -30,6 +30,7 @@ struct UnitRun {
   UnitCycles cycles;
   std::uint64_t rays = 0;
   std::uint64_t memory_bytes = 0;
+  std::uint64_t node_tests[kRayKinds] = {};  // --top bvh
 };
 
 struct FrameRun {
@@ -37,6 +38,7 @@ struct FrameRun {
   std::uint64_t rays[kRayKinds] = {};
   std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0, memory_load_bytes = 0;
   std::uint64_t memory_load_cycles = 0;  // bus time of the geometry moved in (0 on an ideal bus)
+  std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;  // --top bvh: the GPP's refit (gpp.h)
   std::vector<UnitRun> units;
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere], whichever unit did it
 };
@@ -57,6 +59,7 @@ class AnalyticEngine {
   const SceneGeometry<T>& geom_;
   const Arch& arch_;
   std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
+  std::vector<TopTree> trees_;  // --top bvh: per unit
   FunctionalFrame<T> frame_;
 };
 

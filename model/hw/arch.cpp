@@ -75,7 +75,7 @@ nlohmann::json stage_costs_json(const KernelCosts& c) {
 Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   const JsonIn root(doc, file);
   root.only_keys({"format", "comment", "clock_mhz", "ius", "costs", "ray_fifo_depth", "bus", "memory", "gpp",
-                  "level", "quantum", "balance", "subdivide", "split_rule", "accel", "kernel", "precision",
+                  "level", "quantum", "balance", "subdivide", "split_rule", "accel", "top", "kernel", "precision",
                   "sync_every_ray"});
   const std::string format = root.at("format").string();
   if (format != "oprt-arch/1") root.at("format").fail("unsupported format \"" + format + "\" (expected oprt-arch/1)");
@@ -84,8 +84,9 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   a.clock_mhz = root.number_or("clock_mhz", a.clock_mhz, 1e-3, 1e6);
   a.ius = static_cast<int>(root.integer_or("ius", a.ius, 1, 65536));
   if (auto c = root.find("costs")) {
-    c->only_keys({"sphere", "transform", "triangle", "watertight", "box", "box_setup"});
+    c->only_keys({"sphere", "transform", "triangle", "watertight", "box", "box_setup", "node"});
     if (auto v = c->find("sphere")) a.costs.sphere = cycles(*v);
+    if (auto v = c->find("node")) a.costs.node = cycles(*v);
     if (auto v = c->find("box")) a.costs.box = cycles(*v);
     if (auto v = c->find("box_setup")) a.costs.box_setup = cycles(*v);
     read_kernel_costs(*c, Kernel::moller, a.costs.moller);
@@ -111,9 +112,10 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
     a.memory.bytes_per_cycle = static_cast<int>(m->integer_or("bytes_per_cycle", a.memory.bytes_per_cycle, 1, 1 << 20));
   }
   if (auto g = root.find("gpp")) {
-    g->only_keys({"cycles_per_ray", "cycles_per_hit"});
+    g->only_keys({"cycles_per_ray", "cycles_per_hit", "cycles_per_node"});
     a.gpp.cycles_per_ray = static_cast<int>(g->integer_or("cycles_per_ray", 0, 0, 1 << 20));
     a.gpp.cycles_per_hit = static_cast<int>(g->integer_or("cycles_per_hit", 0, 0, 1 << 20));
+    a.gpp.cycles_per_node = static_cast<int>(g->integer_or("cycles_per_node", a.gpp.cycles_per_node, 0, 1 << 20));
   }
   if (auto v = root.find("level"))
     a.level = choose<Level>(*v, {{"at", Level::at}, {"lt", Level::lt}, {"analytic", Level::analytic}});
@@ -122,6 +124,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   a.subdivide = static_cast<int>(root.integer_or("subdivide", a.subdivide, 1, 4096));
   if (auto v = root.find("split_rule")) a.split_rule = one_of(*v, {"balanced", "median"});
   if (auto v = root.find("accel")) a.accel = one_of(*v, {"brute", "bvh"});
+  if (auto v = root.find("top")) a.top = one_of(*v, {"flat", "bvh"});
   if (auto v = root.find("kernel")) a.kernel = *kernel_named(one_of(*v, {"moller", "watertight"}));
   if (auto v = root.find("precision")) a.precision = one_of(*v, {"float", "double"});
   a.sync_every_ray = root.boolean_or("sync_every_ray", a.sync_every_ray);
@@ -138,19 +141,21 @@ nlohmann::json to_json(const Arch& a) {
                      {"triangle", stage_costs_json(a.costs.moller)},
                      {"watertight", {{"transform", a.costs.watertight.transform},
                                      {"triangle", stage_costs_json(a.costs.watertight)}}},
-                     {"box", a.costs.box}, {"box_setup", a.costs.box_setup}}},
+                     {"box", a.costs.box}, {"box_setup", a.costs.box_setup}, {"node", a.costs.node}}},
           {"ray_fifo_depth", a.fifo_depth},
           {"bus", {{"model", to_string(a.bus.model)}, {"bytes_per_cycle", a.bus.bytes_per_cycle},
                    {"arbitration_cycles", a.bus.arbitration_cycles}, {"lt_arbitration", to_string(a.bus.lt_arbitration)}}},
           {"memory", {{"model", to_string(a.memory.model)}, {"latency_cycles", a.memory.latency_cycles},
                       {"bytes_per_cycle", a.memory.bytes_per_cycle}}},
-          {"gpp", {{"cycles_per_ray", a.gpp.cycles_per_ray}, {"cycles_per_hit", a.gpp.cycles_per_hit}}},
+          {"gpp", {{"cycles_per_ray", a.gpp.cycles_per_ray}, {"cycles_per_hit", a.gpp.cycles_per_hit},
+                   {"cycles_per_node", a.gpp.cycles_per_node}}},
           {"level", to_string(a.level)},
           {"quantum_ns", a.quantum_ns},
           {"balance", a.balance},
           {"subdivide", a.subdivide},
           {"split_rule", a.split_rule},
           {"accel", a.accel},
+          {"top", a.top},
           {"kernel", to_string(a.kernel)},
           {"precision", a.precision},
           {"sync_every_ray", a.sync_every_ray}};

@@ -44,6 +44,7 @@ struct Arch {
   struct {
     int cycles_per_ray = 0;  // generating a ray (primary or shadow)
     int cycles_per_hit = 0;  // shading a primary ray's result
+    int cycles_per_node = 20;  // --top bvh: refitting one node of a unit's tree, every frame
   } gpp;
 
   // Run options.
@@ -53,6 +54,7 @@ struct Arch {
   int subdivide = 1;
   std::string split_rule = "balanced";  // how --subdivide splits an object (balance/subdivide.cpp)
   std::string accel = "brute";
+  std::string top = "flat";  // what a unit walks over its spheres: "flat" (every one) or "bvh" (ref/top_tree.h)
   Kernel kernel = Kernel::moller;
   std::string precision = "float";
   // Simulation only: make every unit wait out each ray in simulation time even where
@@ -63,6 +65,7 @@ struct Arch {
   double cycle_ns() const { return 1000.0 / clock_mhz; }
   // The costs of the kernel this run uses.
   const KernelCosts& kernel_costs() const { return costs.of(kernel); }
+  bool top_tree() const { return top == "bvh"; }
 };
 
 // Throws InputError (file, JSON path, problem) on any unknown key or impossible value.

@@ -32,6 +32,7 @@ struct Chunk {
 struct Totals {
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;
   std::vector<UnitCycles> units;
+  std::vector<std::array<std::uint64_t, kRayKinds>> node_tests;  // per unit
 };
 
 template <typename T>
@@ -53,15 +54,23 @@ class Recorder {
     cur_ = UnitRayWork{};
     cur_.ray = static_cast<std::uint32_t>(c_.rays.size() - 1);
     cur_.first_visit = static_cast<std::uint32_t>(c_.visits.size());
+    spheres_before_ = nodes_before_ = 0;
   }
   void visit(const SphereVisit& v) {
+    cur_.node_tests += v.nodes_before;
+    nodes_before_ += v.nodes_before;
+    if (v.sphere == kNone) return;  // node tests after the last sphere (top_traverse.h)
     t_.per_sphere[kind_][v.sphere] += v.work;
     ++cur_.sphere_tests;
+    ++spheres_before_;
     if (!v.work.transforms) return;
     const UnitCycles vc = visit_cycles<T>(v, arch_);
     VisitWork w;
     w.entry = v.entry;
     w.sphere = v.sphere;
+    w.spheres_before = spheres_before_;
+    w.nodes_before = nodes_before_;
+    spheres_before_ = nodes_before_ = 0;
     w.box = static_cast<std::uint32_t>(vc.box);
     w.primitive = static_cast<std::uint32_t>(vc.primitive);
     w.stall = static_cast<std::uint32_t>(vc.stall);
@@ -77,7 +86,11 @@ class Recorder {
   void end_unit(std::uint32_t u, const UnitAnswer<T>& a) {
     UnitCycles& total = t_.units[u];
     total.sphere += std::uint64_t{cur_.sphere_tests} * arch_.costs.sphere;
-    if (!cur_.visits) return;  // every sphere missed: no record (FunctionalFrame::breakdown)
+    total.node += std::uint64_t{cur_.node_tests} * arch_.costs.node;
+    t_.node_tests[u][kind_] += cur_.node_tests;
+    // Every sphere missed (flat: all tested; tree: only its root tested): no record
+    // (FunctionalFrame::breakdown).
+    if (!cur_.visits && (cur_.node_tests == 0 || (cur_.node_tests == 1 && cur_.sphere_tests == 0))) return;
     total.transform += cur_.transform;
     total.box += cur_.box;
     total.primitive += cur_.primitive;
@@ -100,6 +113,7 @@ class Recorder {
   const Arch& arch_;
   int kind_ = 0;
   UnitRayWork cur_;
+  std::uint32_t spheres_before_ = 0, nodes_before_ = 0;
 };
 
 }  // namespace
@@ -112,8 +126,13 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
   const std::size_t n_units = units.size();
   out.image = FrameImage(width, height);
   out.sphere_cost = arch.costs.sphere;
+  out.node_cost = arch.costs.node;
   out.unit_entries.clear();
-  for (const IuRegisters<T>& r : units) out.unit_entries.push_back(static_cast<std::uint32_t>(r.size()));
+  out.unit_top.clear();
+  for (const IuRegisters<T>& r : units) {
+    out.unit_entries.push_back(static_cast<std::uint32_t>(r.size()));
+    out.unit_top.push_back(r.top.empty() ? 0 : 1);
+  }
 
   const FrameTraceInputs<T> in{g, units, camera, shader, arch.memory.model == MemoryModel::latency};
   std::vector<Chunk<T>> chunks(chunk_count(pixels, kPixelsPerChunk));
@@ -125,6 +144,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
     Local l;
     for (auto& k : l.totals.per_sphere) k.assign(spheres, WorkCounts{});
     l.totals.units.assign(n_units, UnitCycles{});
+    l.totals.node_tests.assign(n_units, {});
     return l;
   });
   parallel_chunks(pixels, kPixelsPerChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
@@ -137,10 +157,14 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
 
   for (auto& k : out.per_sphere) k.assign(spheres, WorkCounts{});
   out.unit_cycles.assign(n_units, UnitCycles{});
+  out.unit_node_tests.assign(n_units, {});
   for (const Local& l : locals) {
     for (int k = 0; k < kRayKinds; ++k)
       for (std::size_t s = 0; s < spheres; ++s) out.per_sphere[k][s] += l.totals.per_sphere[k][s];
-    for (std::size_t u = 0; u < n_units; ++u) out.unit_cycles[u] += l.totals.units[u];
+    for (std::size_t u = 0; u < n_units; ++u) {
+      out.unit_cycles[u] += l.totals.units[u];
+      for (int k = 0; k < kRayKinds; ++k) out.unit_node_tests[u][k] += l.totals.node_tests[u][k];
+    }
   }
 
   // Assemble: rays in pixel order; each unit's records, visits and hits in ray order, with

@@ -6,7 +6,8 @@
 // against this record. Plain C++, no SystemC.
 //
 // Storage is sparse: a unit whose ray enters none of its spheres, the common case, has no
-// record (it tested every sphere in its registers and answered "miss" / "not occluded").
+// record (it tested every sphere in its registers, or with a tree over its spheres only the
+// root, and answered "miss" / "not occluded").
 #pragma once
 
 #include "hw/arch.h"
@@ -24,6 +25,7 @@ namespace oprt::hw {
 struct UnitRayWork {
   std::uint32_t ray = 0;
   std::uint32_t sphere_tests = 0;  // register entries tested (a shadow ray stops at its first occluder)
+  std::uint32_t node_tests = 0;    // --top bvh: nodes of the unit's tree tested
   std::uint32_t transform = 0, box = 0, primitive = 0, stall = 0;  // cycles; stall: memory streaming
   std::uint32_t first_visit = 0, visits = 0;  // its entered spheres (UnitTrace::visits), in register order
   std::uint32_t hit = kNone;                  // primary: index into UnitTrace::hits, if it found one
@@ -34,6 +36,7 @@ struct UnitRayWork {
 struct VisitWork {
   std::uint32_t entry = 0;   // position in the unit's registers
   std::uint32_t sphere = 0;  // global sphere id
+  std::uint32_t spheres_before = 0, nodes_before = 0;  // tests since the previous entered sphere, this one's included
   std::uint32_t box = 0, primitive = 0, stall = 0;  // cycles (the transform is the kernel's cost)
   std::uint32_t tri_tests = 0, box_tests = 0;       // what it streamed from object memory
 };
@@ -68,7 +71,10 @@ struct FunctionalFrame {
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere]
   std::vector<UnitCycles> unit_cycles;    // per unit, busy and memory stall (no bus time)
   std::vector<std::uint32_t> unit_entries;  // per unit: spheres in its registers this frame
+  std::vector<char> unit_top;             // per unit: it walks a tree over its spheres (--top bvh)
+  std::vector<std::array<std::uint64_t, kRayKinds>> unit_node_tests;  // per unit and ray kind
   std::uint32_t sphere_cost = 0;          // cycles per sphere test
+  std::uint32_t node_cost = 0;            // cycles per node test (--top bvh)
 
   std::uint32_t ray_count() const { return static_cast<std::uint32_t>(rays.size()); }
   // Unit u's record for ray r, or null if the ray entered none of its spheres.
@@ -77,10 +83,12 @@ struct FunctionalFrame {
   UnitCycles breakdown(const UnitRayWork* w, std::uint32_t u) const {
     UnitCycles c;
     if (!w) {
-      c.sphere = std::uint64_t{unit_entries[u]} * sphere_cost;
+      if (unit_top[u]) c.node = node_cost;  // the root, missed
+      else c.sphere = std::uint64_t{unit_entries[u]} * sphere_cost;
       return c;
     }
     c.sphere = std::uint64_t{w->sphere_tests} * sphere_cost;
+    c.node = std::uint64_t{w->node_tests} * node_cost;
     c.transform = w->transform;
     c.box = w->box;
     c.primitive = w->primitive;
@@ -106,9 +114,11 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& geometry,
                       const Arch& arch, int width, int height);
 
 // Calls phase(state, cycles) for each phase of unit u's work on ray r in time order, as the
-// unit performs it: sphere tests, and for each entered sphere its transform, box tests,
-// triangle tests and memory stall. Consecutive sphere tests form one phase. State codes are
-// UnitState's (intersection_unit.h): sphere 1, transform 2, primitive 3, stall 4, box 5.
+// unit performs it: sphere tests (and node tests of its tree), and for each entered sphere
+// its transform, box tests, triangle tests and memory stall. Consecutive tests before a
+// sphere is entered form one phase of node tests, then one of sphere tests. State codes are
+// UnitState's (intersection_unit.h): sphere 1, transform 2, primitive 3, stall 4, box 5,
+// node 6.
 template <typename T, typename Phase>
 void for_each_phase(const FunctionalFrame<T>& f, const UnitRayWork* w, std::uint32_t u, std::uint32_t transform_cost,
                     Phase&& phase) {
@@ -116,20 +126,24 @@ void for_each_phase(const FunctionalFrame<T>& f, const UnitRayWork* w, std::uint
     if (cycles) phase(state, cycles);
   };
   if (!w) {
-    emit(1, std::uint64_t{f.unit_entries[u]} * f.sphere_cost);
+    if (f.unit_top[u]) emit(6, f.node_cost);
+    else emit(1, std::uint64_t{f.unit_entries[u]} * f.sphere_cost);
     return;
   }
-  std::uint32_t tested = 0;
+  std::uint32_t spheres = 0, nodes = 0;
   for (std::uint32_t i = w->first_visit; i < w->first_visit + w->visits; ++i) {
     const VisitWork& v = f.units[u].visits[i];
-    emit(1, std::uint64_t{v.entry + 1 - tested} * f.sphere_cost);
-    tested = v.entry + 1;
+    emit(6, std::uint64_t{v.nodes_before} * f.node_cost);
+    emit(1, std::uint64_t{v.spheres_before} * f.sphere_cost);
+    spheres += v.spheres_before;
+    nodes += v.nodes_before;
     emit(2, transform_cost);
     emit(5, v.box);
     emit(3, v.primitive);
     emit(4, v.stall);
   }
-  emit(1, std::uint64_t{w->sphere_tests - tested} * f.sphere_cost);
+  emit(6, std::uint64_t{w->node_tests - nodes} * f.node_cost);
+  emit(1, std::uint64_t{w->sphere_tests - spheres} * f.sphere_cost);
 }
 
 extern template struct FunctionalFrame<float>;

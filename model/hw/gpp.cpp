@@ -30,6 +30,7 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
   if (vcd_) {
     vcd_in_flight_ = vcd_->add(this->name(), "rays_in_flight", 32);
     vcd_frame_ = vcd_->add(this->name(), "frame", 32);
+    if (arch.top_tree()) vcd_refit_ = vcd_->add(this->name(), "refit", 1);
   }
   SC_THREAD(run);
 }
@@ -132,7 +133,7 @@ void Gpp<T>::issue(std::uint32_t id) {
   ++stats_.rays[static_cast<int>(frame_.rays[id].kind)];
   trace_in_flight();
   RayPacket<T> packet{id, &frame_.rays[id]};
-  write(addr::broadcast_rays, &packet, Bytes<T>::ray);
+  write(addr::broadcast_rays, &packet, Bytes<T>::ray_bytes(arch_.top_tree()));
 }
 
 template <typename T>
@@ -228,13 +229,27 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   if (vcd_) vcd_->change(vcd_frame_, stats_.start.value(), static_cast<std::uint64_t>(cmd.frame));
   const FrameSetup<T> setup = setup_frame(scene_, geom_, cmd.frame, cmd.to_world, cmd.camera);
 
-  // Configuration registers: each unit's spheres, world spheres and matrices.
+  // Configuration registers: each unit's spheres, world spheres and matrices, and with
+  // --top bvh its tree over them, refitted to the frame by the GPP (rebuilt first where the
+  // unit's spheres changed; building, like choosing the assignment, is not charged).
   units_ = static_cast<unsigned>(assignment_.size());
   registers_.resize(units_);
+  trees_.resize(arch_.top_tree() ? units_ : 0);
   for (unsigned u = 0; u < units_; ++u) {
     registers_[u].load(setup, geom_, assignment_[u]);
+    if (arch_.top_tree())
+      stats_.refit_nodes += load_top(registers_[u], trees_[u], assignment_[u], setup, geom_, &stats_.built_nodes);
+  }
+  if (stats_.refit_nodes) {
+    stats_.refit_cycles = stats_.refit_nodes * static_cast<std::uint64_t>(arch_.gpp.cycles_per_node);
+    if (vcd_) vcd_->change(vcd_refit_, clock_.now().value(), 1);
+    clock_.advance(cycle_ * static_cast<double>(stats_.refit_cycles));
+    if (vcd_) vcd_->change(vcd_refit_, clock_.now().value(), 0);
+  }
+  for (unsigned u = 0; u < units_; ++u) {
     ConfigPacket<T> packet{&registers_[u]};
-    const unsigned bytes = static_cast<unsigned>(assignment_[u].size()) * Bytes<T>::sphere_config;
+    const unsigned bytes = static_cast<unsigned>(assignment_[u].size()) * Bytes<T>::sphere_config +
+                           static_cast<unsigned>(registers_[u].top.size()) * Bytes<T>::top_node;
     stats_.config_bytes += bytes;
     write(addr::iu_window(static_cast<int>(u)) + addr::iu_config, &packet, bytes);
   }

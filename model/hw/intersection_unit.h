@@ -29,7 +29,7 @@
 
 namespace oprt::hw {
 
-enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primitive = 3, stall = 4, box = 5 };
+enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primitive = 3, stall = 4, box = 5, node = 6 };
 
 struct UnitStats {
   UnitCycles cycles;

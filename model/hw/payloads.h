@@ -30,12 +30,17 @@ constexpr std::uint64_t iu_window(int unit) { return iu_base + static_cast<std::
 template <typename T>
 struct Bytes {
   static constexpr unsigned ray = 8 + 7 * sizeof(T);                   // id, kind, o, d, tmax
+  // --top bvh: the ray also carries its reciprocal direction, computed once by the GPP for
+  // every unit's node tests (ref/top_traverse.h)
+  static constexpr unsigned ray_with_reciprocal = ray + 3 * sizeof(T);
+  static constexpr unsigned ray_bytes(bool top) { return top ? ray_with_reciprocal : ray; }
   static constexpr unsigned nearest_answer = 12 + 8 + 3 * sizeof(T);   // ray, unit, flags; object, prim; t, u, v
   static constexpr unsigned shadow_answer = 12;                        // ray, unit, occluded
   static constexpr unsigned sphere_config = 4 + 16 * sizeof(T);        // id, centre, radius, 3x4 matrix
   // per triangle, in the kernel's format: Moller v0, e1, e2, n; watertight v0, v1, v2
   static constexpr unsigned triangle(Kernel k) { return triangle_bytes<T>(k); }
   static constexpr unsigned node = BvhNode<T>::kBytes;                 // box, offset, count, axis
+  static constexpr unsigned top_node = 6 * sizeof(T) + 8;              // --top bvh: box, child or entry, leaf, axis
 };
 
 // Rays of the frame in flight, by id. Written by the GPP; units read the ray a FIFO entry

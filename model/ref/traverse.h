@@ -13,6 +13,7 @@
 
 #include "ref/bvh_traverse.h"
 #include "ref/frame_setup.h"
+#include "ref/top_tree.h"
 #include "ref/work.h"
 
 #include <limits>
@@ -42,12 +43,14 @@ struct IuRegisters {
   std::vector<std::uint32_t> sphere;  // global sphere ids, in the unit's test order
   std::vector<Sphere<T>> world;       // per entry: world bounding sphere
   std::vector<Affine<T>> to_local;    // per entry: world -> local of its object
+  std::vector<TopNode<T>> top;        // --top bvh: the tree over the entries (empty: flat, ref/top_tree.h)
 
   std::size_t size() const { return sphere.size(); }
   void load(const FrameSetup<T>& f, const SceneGeometry<T>& g, const std::vector<std::uint32_t>& spheres) {
     sphere.clear();
     world.clear();
     to_local.clear();
+    top.clear();
     for (std::uint32_t s : spheres) {
       if (!f.visible[s]) continue;  // hidden this frame: the GPP does not write it
       sphere.push_back(s);
@@ -68,11 +71,20 @@ struct SphereVisit {
   // If logged, in memory order: per tested triangle its exit stage, and (BVH) kLogNode per
   // node; work.tri_tests() + work.box_tests entries.
   const std::uint8_t* stages = nullptr;
+  // --top bvh: nodes of the unit's tree tested since the previous sphere test. A walk that
+  // ends with node tests reports them in a last visit with sphere == kNone (no sphere test).
+  std::uint32_t nodes_before = 0;
 };
+
 
 // Scratch for logging exit stages in memory order (the memory model's input); pass nullptr
 // to trace_* when the memory is ideal.
 using StageLog = std::vector<std::uint8_t>;
+
+template <typename T, typename Visit>
+HitRecord<T> trace_nearest_top(const SceneGeometry<T>&, const IuRegisters<T>&, const Ray<T>&, Visit&&, StageLog*);
+template <typename T, typename Visit>
+bool trace_any_top(const SceneGeometry<T>&, const IuRegisters<T>&, const Ray<T>&, Visit&&, StageLog*);
 
 // Nearest hit over the unit's spheres. Every triangle of an entered sphere is tested
 // against the ray's own tmax, never against the nearest hit so far: the exit stage of a
@@ -81,6 +93,7 @@ using StageLog = std::vector<std::uint8_t>;
 template <typename T, typename Visit>
 HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray,
                            Visit&& visit, StageLog* log = nullptr) {
+  if (!regs.top.empty()) return trace_nearest_top(mem, regs, ray, visit, log);  // ref/top_traverse.h
   HitRecord<T> best;
   for (std::uint32_t i = 0; i < regs.size(); ++i) {
     SphereVisit v{i, regs.sphere[i], {}};
@@ -118,6 +131,7 @@ HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& re
 template <typename T, typename Visit>
 bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray, Visit&& visit,
                StageLog* log = nullptr) {
+  if (!regs.top.empty()) return trace_any_top(mem, regs, ray, visit, log);  // ref/top_traverse.h
   for (std::uint32_t i = 0; i < regs.size(); ++i) {
     SphereVisit v{i, regs.sphere[i], {}};
     v.work.sphere_tests = 1;
@@ -150,7 +164,11 @@ bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ra
 // A visitor that adds each visit's work to a per-sphere table.
 struct AccumulateWork {
   WorkCounts* per_sphere;
-  void operator()(const SphereVisit& v) const { per_sphere[v.sphere] += v.work; }
+  void operator()(const SphereVisit& v) const {
+    if (v.sphere != kNone) per_sphere[v.sphere] += v.work;
+  }
 };
 
 }  // namespace oprt
+
+#include "ref/top_traverse.h"
