@@ -45,6 +45,9 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
       us.work[k].node_tests = r.node_tests[k];  // the unit's, never a sphere's
     }
     us.memory_bytes = r.memory_bytes;
+    us.cache = r.cache;
+    us.assigned_bytes = r.assigned_bytes;
+    us.memory = r.memory;
     fs.units.push_back(std::move(us));
   }
   return fs;

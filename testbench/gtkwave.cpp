@@ -45,7 +45,7 @@ void write_gtkwave_save(const std::string& vcd_path, const std::string& save_pat
     if (s.find(".gpp.") != std::string::npos) gpp.push_back(full);
     else if (s.find(".bus.") != std::string::npos) bus.push_back(full);
     else {
-      for (const char* kind : {".iu", ".fifo"}) {
+      for (const char* kind : {".iu", ".fifo", ".memory"}) {
         const auto at = s.find(kind);
         if (at == std::string::npos) continue;
         unit[std::stoi(s.substr(at + std::string(kind).size()))].push_back(full);

@@ -15,7 +15,7 @@ namespace oprt {
 struct RenderOptions {
   std::string scene, arch_file, frames, resolution, out = "out", vcd;
   std::optional<int> ius, subdivide;
-  std::optional<std::string> level, quantum, balance, accel, top, kernel, precision;
+  std::optional<std::string> level, quantum, balance, accel, top, kernel, precision, sram;
   bool progress = true;  // on a terminal only
   LoadOptions load;
 };

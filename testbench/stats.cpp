@@ -53,6 +53,12 @@ nlohmann::json to_json(const FrameStats& f) {
                                  {"stall", u.cycles.stall}}},
                      {"busy_cycles", u.cycles.busy()},
                      {"memory_bytes_read", u.memory_bytes},
+                     {"memory", {{"cache", u.cache},
+                                 {"assigned_bytes", u.assigned_bytes},
+                                 {"hits", u.memory.hits},
+                                 {"misses", u.memory.misses},
+                                 {"dram_bytes", u.memory.dram_bytes},
+                                 {"stall_cycles", u.memory.stall}}},
                      {"work", {{"primary", work_json(u.work[0])}, {"shadow", work_json(u.work[1])}}}});
   }
   const double rays = static_cast<double>(f.rays[0] + f.rays[1]);

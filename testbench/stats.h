@@ -4,6 +4,7 @@
 #pragma once
 
 #include "hw/arch.h"
+#include "hw/cache.h"
 #include "hw/unit_cycles.h"
 #include "ref/work.h"
 
@@ -25,6 +26,12 @@ struct UnitFrameStats {
   std::uint64_t idle = 0;
   WorkCounts work[kRayKinds];
   std::uint64_t memory_bytes = 0;
+  // Object memory: whether it was a cache (its spheres did not fit memory.sram_bytes), the
+  // bytes its spheres need, and through the cache its line hits, misses, bytes from DRAM;
+  // stall: cycles the unit waited for its object memory, whichever it was.
+  bool cache = false;
+  std::uint64_t assigned_bytes = 0;
+  hw::CacheCounts memory;
 };
 
 struct FrameStats {

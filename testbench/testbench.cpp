@@ -136,6 +136,11 @@ class Testbench : public sc_module {
       r.rays = s.rays[0] + s.rays[1];
       r.memory_bytes = engine_->memory(u).bytes_read();
       for (int k = 0; k < kRayKinds; ++k) r.node_tests[k] = engine_->functional().unit_node_tests[u][k];
+      const hw::ObjectMemory& m = engine_->memory(u);
+      r.cache = m.is_cache();
+      r.assigned_bytes = hw::assigned_bytes(geometry_, job_.assignment.unit[u]);
+      r.memory = m.cache_counts();
+      if (!r.cache) r.memory.stall = engine_->functional().unit_cycles[u].stall;
       run.units.push_back(r);
     }
     run.per_sphere = engine_->functional().per_sphere;

@@ -19,6 +19,7 @@
 #include "hw/functional_frame.h"
 #include "hw/payloads.h"
 #include "hw/unit_cycles.h"
+#include "hw/visit_stream.h"
 #include "scene/scene.h"
 
 #include <vector>
@@ -31,6 +32,9 @@ struct UnitRun {
   std::uint64_t rays = 0;
   std::uint64_t memory_bytes = 0;
   std::uint64_t node_tests[kRayKinds] = {};  // --top bvh
+  bool cache = false;  // its spheres did not fit its object memory (memory.sram_bytes)
+  std::uint64_t assigned_bytes = 0;
+  CacheCounts memory;  // through the cache; stall: the memory's, whichever it is
 };
 
 struct FrameRun {
@@ -49,8 +53,9 @@ class AnalyticEngine {
   AnalyticEngine(const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch)
       : scene_(scene), geom_(geometry), arch_(arch) {}
   void assign(const Assignment& a) { assignment_ = a.unit; }
-  // Before the animation: object memories hold their units' geometry (no time, no stats).
-  void setup() { loaded_ = assignment_; }
+  // Before the animation: object memories hold their units' geometry, or are caches in
+  // front of DRAM where it does not fit (no time, no stats).
+  void setup();
   // Renders cmd.image and returns the frame's timing.
   FrameRun run_frame(const FrameCommand& cmd);
 
@@ -60,6 +65,11 @@ class AnalyticEngine {
   const Arch& arch_;
   std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
   std::vector<TopTree> trees_;  // --top bvh: per unit
+  // Object memories that are caches (memory.sram_bytes), kept from frame to frame.
+  std::vector<char> cached_;
+  std::vector<Cache> caches_;
+  std::vector<MissWindow> windows_;
+  void cold_cache(std::size_t u);
   FunctionalFrame<T> frame_;
 };
 

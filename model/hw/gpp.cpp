@@ -203,16 +203,31 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
 // assignment moves spheres, the geometry a unit gains is written into its memory over the
 // bus before the frame's rays: that transfer is part of the frame. Non-rigid (deforming)
 // spheres are rewritten every frame.
+// A unit whose spheres exceed its memory's capacity (memory.sram_bytes) reads them from
+// DRAM through its memory, now a cache (cache.h): DRAM holds the whole scene from the
+// set-up on, so nothing moves when its spheres change; deforming geometry is rewritten in
+// DRAM, and dropped from every cache.
 template <typename T>
 void Gpp<T>::load_memories() {
   loaded_.resize(assignment_.size());
+  cached_.resize(assignment_.size(), 0);
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> rewritten;
+  const GeometryAddresses<T> at(geom_);
+  for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s)
+    if (geom_.deforming[s] && arch_.memory.sram_bytes) {
+      rewritten.push_back(at.triangles_of(geom_, s));
+      rewritten.push_back(at.nodes_of(geom_, s));
+    }
   for (std::size_t u = 0; u < assignment_.size(); ++u) {
+    const bool cache = memory_is_cache(arch_, assigned_bytes(geom_, assignment_[u]));
     std::uint64_t bytes = 0;
     for (std::uint32_t s : assignment_[u])
-      if (geom_.deforming[s] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())
+      if (geom_.deforming[s] ||
+          (!cache && (cached_[u] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())))
         bytes += geom_.memory_bytes(s);  // triangles, and nodes with a BVH
-    if (loaded_[u] == assignment_[u] && bytes == 0) continue;
-    MemoryLoadPacket packet{assignment_[u]};
+    if (loaded_[u] == assignment_[u] && cache == static_cast<bool>(cached_[u]) && bytes == 0) continue;
+    MemoryLoadPacket packet{assignment_[u], cache, cache ? rewritten : decltype(rewritten){}};
+    cached_[u] = cache ? 1 : 0;
     stats_.memory_load_bytes += bytes;
     const sc_time before = clock_.now();
     write(addr::iu_window(static_cast<int>(u)) + addr::iu_memory, &packet, static_cast<unsigned>(bytes));
@@ -247,7 +262,7 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     if (vcd_) vcd_->change(vcd_refit_, clock_.now().value(), 0);
   }
   for (unsigned u = 0; u < units_; ++u) {
-    ConfigPacket<T> packet{&registers_[u]};
+    ConfigPacket<T> packet{&registers_[u], cached_[u] != 0};
     const unsigned bytes = static_cast<unsigned>(assignment_[u].size()) * Bytes<T>::sphere_config +
                            static_cast<unsigned>(registers_[u].top.size()) * Bytes<T>::top_node;
     stats_.config_bytes += bytes;

@@ -20,6 +20,7 @@
 #include "hw/local_clock.h"
 #include "hw/payloads.h"
 #include "hw/ray_fifo.h"
+#include "hw/visit_stream.h"
 #include "hw/vcd_writer.h"
 #include "hw/watchdog.h"
 #include "ref/image.h"
@@ -94,6 +95,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
   FunctionalFrame<T>& frame_;
   const sc_core::sc_time cycle_;
   std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
+  std::vector<char> cached_;  // per unit: its spheres do not fit, its object memory is a cache
   std::vector<IuRegisters<T>> registers_;
   std::vector<TopTree> trees_;  // --top bvh: per unit
   LocalClock clock_;
