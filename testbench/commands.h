@@ -3,6 +3,8 @@
 
 #include "scene/load.h"
 
+#include <cstddef>
+#include <optional>
 #include <string>
 
 namespace oprt {
@@ -16,6 +18,8 @@ struct CommonOptions {
   std::string accel = "brute";
   std::string kernel = "moller";
   int subdivide = 1;
+  std::string split;  // "count" | "extent"; "": the format's default (balance/spheres.h)
+  std::optional<std::size_t> max_object_triangles;
   bool schedules = false;
   LoadOptions load;
 };

@@ -3,6 +3,7 @@
 #include "commands.h"
 #include "geom/bounding_sphere.h"
 #include "hw/cycle_schedule.h"
+#include "options.h"
 #include "ref/frame_setup.h"
 #include "scene/error.h"
 #include "scene/load.h"
@@ -23,24 +24,27 @@ int run_info(const CommonOptions& o) {
     if (o.scene.empty()) return 0;
   }
   if (o.scene.empty()) throw InputError("oprt info", "SCENE", "a scene file is required (or --schedules)");
-  const Scene scene = load_scene(o.scene, o.load);
-  const auto spheres = make_spheres(scene, o.subdivide);
+  const ObjectSplit split = object_split_named(o.split, o.scene);
+  const Scene scene = load_scene(o.scene, load_options_for(o.load, o.max_object_triangles, split));
+  const auto spheres = make_spheres(scene, o.subdivide, SplitRule::balanced_san, split);
   std::printf("scene       %s\n", o.scene.c_str());
   std::printf("image       %dx%d, %d frame%s, %zu light%s\n", scene.width, scene.height, scene.frame_count,
               scene.frame_count == 1 ? "" : "s", scene.lights.size(), scene.lights.size() == 1 ? "" : "s");
   std::printf("triangles   %zu\n", scene.triangle_count());
   std::printf("objects     %zu\n", scene.objects.size());
-  std::printf("spheres     %zu (subdivide %d)\n", spheres.size(), o.subdivide);
+  std::printf("spheres     %zu (split %s, subdivide %d)\n", spheres.size(), to_string(split), o.subdivide);
   for (const auto& n : scene.notes) std::printf("note        %s\n", n.c_str());
-  std::printf("\n%6s %6s  %-20s %30s %10s %12s %8s %14s\n", "sphere", "object", "name", "centre (local)",
-              "radius", "area", "prims", "SA x N");
+  // Radius in the object's units and in the world's (times the object's stretch at frame
+  // 0); area and SA x N are the world's, as the balance estimates use them.
+  std::printf("\n%6s %6s  %-20s %30s %10s %10s %12s %8s %14s\n", "sphere", "object", "name", "centre (local)",
+              "r (local)", "r (world)", "area", "prims", "SA x N");
   double sum_san = 0, sum_r = 0, sum_ritter = 0;
   for (std::size_t s = 0; s < spheres.size(); ++s) {
     const SphereDef& d = spheres[s];
     const Object& obj = scene.objects[d.object];
-    std::printf("%6zu %6u  %-20.20s (%8.3f, %8.3f, %8.3f) %10.4f %12.4f %8zu %14.2f\n", s, d.object,
-                obj.name.c_str(), d.local.c.x, d.local.c.y, d.local.c.z, d.local.r, d.surface_area(),
-                d.prims.size(), d.sa_n());
+    std::printf("%6zu %6u  %-20.20s (%8.3f, %8.3f, %8.3f) %10.4f %10.4f %12.4f %8zu %14.2f\n", s, d.object,
+                obj.name.c_str(), d.local.c.x, d.local.c.y, d.local.c.z, d.local.r, d.world_radius(),
+                d.surface_area(), d.prims.size(), d.sa_n());
     sum_san += d.sa_n();
     sum_r += d.local.r;
     std::vector<Vec3d> pts;

@@ -29,9 +29,14 @@ int main(int argc, char** argv) {
     sub->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)")->required();
   };
   // How a BART .aff scene becomes objects (docs/aff.md).
-  auto add_load_options = [](CLI::App* sub, LoadOptions& load) {
-    sub->add_option("--max-object-triangles", load.aff.max_object_triangles,
-                    "AFF: split static and rigid groups into objects of at most N triangles (0: never)")
+  auto add_load_options = [](CLI::App* sub, LoadOptions& load, std::string& split,
+                             std::optional<std::size_t>& max_object_triangles) {
+    sub->add_option("--split", split,
+                    "count | extent: how objects become spheres (default: extent for .aff and glTF, count for .json)")
+        ->check(CLI::IsMember({"count", "extent"}));
+    sub->add_option("--max-object-triangles", max_object_triangles,
+                    "AFF: split static and rigid groups into objects of at most N triangles (0: never; default "
+                    "4096 under --split count, 0 under extent)")
         ->check(CLI::Range(0, 1 << 30));
     sub->add_option_function<unsigned>(
            "--tessellation",
@@ -46,7 +51,7 @@ int main(int argc, char** argv) {
   info->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)");
   info->add_flag("--schedules", opt.schedules, "print the IU operations' cycle schedules");
   info->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
-  add_load_options(info, opt.load);
+  add_load_options(info, opt.load, opt.split, opt.max_object_triangles);
 
   auto* ref = app.add_subcommand("reference", "render with the untimed functional reference");
   add_scene(ref);
@@ -58,7 +63,7 @@ int main(int argc, char** argv) {
   ref->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
   ref->add_option("--accel", opt.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
   add_threads(ref);
-  add_load_options(ref, opt.load);
+  add_load_options(ref, opt.load, opt.split, opt.max_object_triangles);
 
   std::string compare_image, compare_reference;
   auto* compare = app.add_subcommand("compare", "print how far a frame is from a reference frame (JSON)");
@@ -90,7 +95,7 @@ int main(int argc, char** argv) {
   render->add_option("--vcd", ro.vcd, "write a VCD trace to this file");
   render->add_flag("!--no-progress", ro.progress, "no progress bar");
   add_threads(render);
-  add_load_options(render, ro.load);
+  add_load_options(render, ro.load, ro.split, ro.max_object_triangles);
 
   try {
     app.parse(argc, argv);

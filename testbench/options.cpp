@@ -47,6 +47,13 @@ void parse_resolution(const std::string& text, int& width, int& height) {
   height = static_cast<int>(h);
 }
 
+LoadOptions load_options_for(LoadOptions load, std::optional<std::size_t> max_object_triangles, ObjectSplit split) {
+  load.aff.max_object_triangles = max_object_triangles ? *max_object_triangles
+                                  : split == ObjectSplit::count ? AffOptions{}.max_object_triangles
+                                                                : 0;
+  return load;
+}
+
 std::uint64_t parse_bytes(const std::string& text, const std::string& what) {
   std::size_t digits = 0;
   while (digits < text.size() && std::isdigit(static_cast<unsigned char>(text[digits]))) ++digits;

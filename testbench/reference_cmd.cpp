@@ -36,7 +36,9 @@ int reference(const CommonOptions& o, const Scene& scene) {
   check_motions(scene, frames.first, frames.last);
   const auto t_build = std::chrono::steady_clock::now();
   const Kernel kernel = kernel_named(o.kernel).value_or(Kernel::moller);
-  SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, o.subdivide), kernel, accel_named(o.accel));
+  const ObjectSplit split = object_split_named(o.split, o.scene);
+  SceneGeometry<T> g = build_geometry<T>(scene, make_spheres(scene, o.subdivide, SplitRule::balanced_san, split), kernel,
+                                         accel_named(o.accel));
   const bool deforming = has_deforming(scene);
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
   std::filesystem::create_directories(o.out);
@@ -48,6 +50,7 @@ int reference(const CommonOptions& o, const Scene& scene) {
                           {"triangle_exit_stages", {stage_names(kernel)[0], stage_names(kernel)[1],
                                                     stage_names(kernel)[2], stage_names(kernel)[3]}},
                           {"resolution", {width, height}},
+                          {"split", to_string(split)},
                           {"spheres", g.sphere_count()},
                           {"triangles", scene.triangle_count()},
                           {"build_s", build_s},
@@ -105,7 +108,8 @@ int reference(const CommonOptions& o, const Scene& scene) {
 }  // namespace
 
 int run_reference(const CommonOptions& o) {
-  const Scene scene = load_scene(o.scene, o.load);
+  const Scene scene =
+      load_scene(o.scene, load_options_for(o.load, o.max_object_triangles, object_split_named(o.split, o.scene)));
   return o.precision == "double" ? reference<double>(o, scene) : reference<float>(o, scene);
 }
 

@@ -29,6 +29,7 @@ Arch resolve_arch(const RenderOptions& o) {
   if (o.quantum) a.quantum_ns = parse_time_ns(*o.quantum, "--quantum");
   if (o.balance) a.balance = *o.balance;
   if (o.subdivide) a.subdivide = *o.subdivide;
+  if (!o.split.empty()) a.split = o.split;
   if (o.accel) a.accel = *o.accel;
   if (o.top) a.top = *o.top;
   if (o.sram) {
@@ -60,7 +61,8 @@ std::vector<std::vector<NodeArea>> node_areas(const SceneGeometry<T>& g) {
 
 template <typename T>
 int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
-  const auto spheres = make_spheres(scene, job.arch.subdivide, split_rule_named(job.arch.split_rule));
+  const auto spheres = make_spheres(scene, job.arch.subdivide, split_rule_named(job.arch.split_rule),
+                                    object_split_named(job.arch.split, o.scene));
   const std::size_t units = units_for(spheres.size(), static_cast<std::size_t>(job.arch.ius));
   if (units < static_cast<std::size_t>(job.arch.ius))
     std::printf("oprt: %d intersection units requested, the scene has %zu spheres: instantiating %zu units\n",
@@ -84,6 +86,7 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
   for (std::size_t s = 0; s < spheres.size(); ++s) {
     const SphereDef& d = spheres[s];
     sphere_info.push_back({{"object", d.object}, {"primitives", d.prims.size()}, {"radius", d.local.r},
+                           {"world_radius", d.world_radius()},
                            {"center", {d.local.c.x, d.local.c.y, d.local.c.z}}, {"sa_n", d.sa_n()},
                            {"sa_n_weight", weights[s]}, {"bvh_nodes", geometry.nodes_in(static_cast<std::uint32_t>(s))}});
   }
@@ -96,10 +99,11 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
                 {"resolution", {job.width, job.height}},
                 {"arch", to_json(job.arch)},
                 {"threads", thread_count()}};
-  job.header["load_options"] = {{"aff_max_object_triangles", o.load.aff.max_object_triangles},
-                                {"aff_sphere_segments", o.load.aff.sphere_segments},
-                                {"aff_sphere_rings", o.load.aff.sphere_rings},
-                                {"aff_cone_segments", o.load.aff.cone_segments}};
+  const LoadOptions load = load_options_for(o.load, o.max_object_triangles, object_split_named(job.arch.split, o.scene));
+  job.header["load_options"] = {{"aff_max_object_triangles", load.aff.max_object_triangles},
+                                {"aff_sphere_segments", load.aff.sphere_segments},
+                                {"aff_sphere_rings", load.aff.sphere_rings},
+                                {"aff_cone_segments", load.aff.cone_segments}};
   if (job.arch.level == Level::analytic) {  // no SystemC at all
     simulate<T>(job, geometry);
     return 0;
@@ -131,10 +135,12 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
 
 int run_render(const RenderOptions& o) {
   ::setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 0);
-  const Scene scene = load_scene(o.scene, o.load);
   RenderJob job;
-  job.scene = &scene;
   job.arch = resolve_arch(o);
+  const ObjectSplit split = object_split_named(job.arch.split, o.scene);
+  job.arch.split = to_string(split);  // recorded in stats.json as resolved
+  const Scene scene = load_scene(o.scene, load_options_for(o.load, o.max_object_triangles, split));
+  job.scene = &scene;
   if (job.arch.level == Level::analytic && !o.vcd.empty())
     throw InputError("--vcd", o.vcd, "the analytic level has no simulated signals to trace (use --level at or lt)");
   job.width = scene.width;

@@ -7,6 +7,7 @@
 #include "options.h"
 #include "scene/load.h"
 
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -17,6 +18,8 @@ struct RenderOptions {
   std::optional<int> ius, subdivide;
   std::optional<std::string> level, quantum, balance, accel, top, kernel, precision, sram;
   bool progress = true;  // on a terminal only
+  std::string split;     // "": the architecture file's, else the format's default
+  std::optional<std::size_t> max_object_triangles;
   LoadOptions load;
 };
 

@@ -39,15 +39,15 @@ std::vector<double> sa_n_weights(const Scene& scene, const std::vector<SphereDef
   w.reserve(spheres.size());
   for (std::size_t i = 0; i < spheres.size(); ++i) {
     const SphereDef& s = spheres[i];
-    const Affine<double> m = scene.objects[s.object].motion->at(0);
-    const Vec3d centre = m.point(s.local.c);
-    const double r = s.local.r * max_stretch(m);
+    const Vec3d centre = scene.objects[s.object].motion->at(0).point(s.local.c);
+    const double r = s.world_radius();
     double entering = std::min(1.0, 4 * kPi * r * r / hull);
     for (const PointLight& l : scene.lights) entering += cap_fraction(l.position, centre, r);
     double entry = c.transform + static_cast<double>(s.prims.size()) * c.triangle;
     if (!c.bvh.empty()) {
       entry = c.transform + c.box_setup + c.box;
-      const double area = std::max(s.surface_area(), 1e-300);
+      // Node boxes are in local units: the ratio needs the sphere's local area.
+      const double area = std::max(4 * kPi * s.local.r * s.local.r, 1e-300);
       for (const NodeArea& n : c.bvh.at(i))
         entry += n.area / area * (n.triangles ? n.triangles * c.triangle : 2 * c.box);
     }

@@ -109,9 +109,16 @@ void split_median(std::vector<Prim> p, int k, std::vector<std::vector<std::uint3
 }  // namespace
 
 std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, int k, SplitRule rule) {
+  std::vector<std::uint32_t> all(mesh.triangles.size());
+  std::iota(all.begin(), all.end(), 0u);
+  return subdivide(mesh, all, k, rule);
+}
+
+std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, const std::vector<std::uint32_t>& ids, int k,
+                                                  SplitRule rule) {
   std::vector<Prim> prims;
-  prims.reserve(mesh.triangles.size());
-  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+  prims.reserve(ids.size());
+  for (std::uint32_t t : ids) {
     Prim q{t, Vec3d(0), {}};
     for (std::uint32_t v : mesh.triangles[t]) {
       q.centroid += mesh.vertices[v] / 3.0;

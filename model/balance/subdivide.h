@@ -18,6 +18,9 @@ enum class SplitRule {
 // K non-empty clusters (fewer if the object has fewer than K triangles); every triangle
 // in exactly one. Deterministic.
 std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, int k, SplitRule rule = SplitRule::balanced_san);
+// The same for the listed triangles only (indices into mesh.triangles, ascending).
+std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, const std::vector<std::uint32_t>& prims, int k,
+                                                  SplitRule rule = SplitRule::balanced_san);
 
 SplitRule split_rule_named(const std::string& name);  // "balanced" | "median"
 

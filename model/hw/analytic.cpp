@@ -121,7 +121,9 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     g = transfer(g, assignment_[u].size() * Bytes<T>::sphere_config + regs[u].top.size() * Bytes<T>::top_node);
   const CameraRays camera(cmd.camera, cmd.width, cmd.height);
   const Shader<T> shader(scene_, setup);
-  trace_functional(frame_, geom_, regs, camera, shader, arch_, cmd.width, cmd.height);
+  // Caches time each visit: they need the records' detail.
+  const bool caches = std::find(cached_.begin(), cached_.end(), 1) != cached_.end();
+  trace_functional(frame_, geom_, regs, camera, shader, arch_, cmd.width, cmd.height, caches);
   const FunctionalFrame<T>& f = frame_;
 
   const std::size_t pixels = static_cast<std::size_t>(cmd.width) * cmd.height;
@@ -132,29 +134,31 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   std::deque<std::uint32_t> shadow_queue;
   const unsigned depth = static_cast<unsigned>(arch_.fifo_depth);
 
-  // A ray through unit u's cache, visit by visit (IntersectionUnit::trace_through_cache).
+  // A ray through unit u's cache, visit by visit (IntersectionUnit::trace_through_cache);
+  // returns when it ends. The cache's stall is counted in out.units[u].memory.
   VisitStream stream;
-  auto through_cache = [&](std::uint32_t u, const RayRecord<T>& r, const UnitRayWork& w, Cycles t, UnitCycles& c) {
-    c.stall = 0;
-    auto fetch = [&](std::uint64_t line, Cycles q) -> Cycles {
-      (void)line;
+  auto entered = [](const UnitTrace<T>& ut, const UnitRayWork* w) {
+    return ut.visit_first[ut.index(w) + 1] > ut.visit_first[ut.index(w)];
+  };
+  auto through_cache = [&](std::uint32_t u, const RayRecord<T>& r, const UnitRayWork& w, Cycles t) {
+    auto fetch = [&](std::uint64_t, Cycles q) -> Cycles {
       if (fill_over_bus) q = transfer(q, static_cast<std::uint64_t>(cc.line_bytes));
       return channels[u / per_channel].reserve(q, line_transfer) + static_cast<Cycles>(arch_.memory.dram.latency_cycles);
     };
+    const UnitTrace<T>& ut = f.units[u];
+    const std::uint32_t i = ut.index(&w);
     std::uint32_t spheres = 0, nodes = 0;
-    CacheCounts& counts = out.units[u].memory;
-    for (std::uint32_t i = w.first_visit; i < w.first_visit + w.visits; ++i) {
-      const VisitWork& v = f.units[u].visits[i];
+    for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
+      const VisitWork& v = ut.visits[k];
       t += std::uint64_t{v.nodes_before} * f.node_cost + std::uint64_t{v.spheres_before} * f.sphere_cost;
       nodes += v.nodes_before;
       spheres += v.spheres_before;
       const WorkCounts again = visit_stream(geom_, regs[u], r.ray, r.kind, v.entry, at, stream);
-      const std::uint64_t before = counts.stall;
-      t = time_visit(visit_costs(arch_, again), stream, t, caches_[u], windows_[u], counts, fetch,
+      t = time_visit(visit_costs(arch_, again), stream, t, caches_[u], windows_[u], out.units[u].memory, fetch,
                      [](int, std::uint64_t) {});
-      c.stall += counts.stall - before;
     }
-    return t + std::uint64_t{w.node_tests - nodes} * f.node_cost + std::uint64_t{w.sphere_tests - spheres} * f.sphere_cost;
+    return t + std::uint64_t{ut.node_tests[i] - nodes} * f.node_cost +
+           std::uint64_t{ut.sphere_tests[i] - spheres} * f.sphere_cost;
   };
 
   // Issue ray `id`: the GPP generates and writes it; every unit takes it in FIFO order.
@@ -173,14 +177,13 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     const std::uint64_t answer = kind == RayKind::primary ? Bytes<T>::nearest_answer : Bytes<T>::shadow_answer;
     Cycles done_all = 0, popped = 0;
     for (std::uint32_t u = 0; u < units; ++u) {
-      const UnitRayWork* w = f.find(id, u);
       UnitRun& ur = out.units[u];
       const Cycles start = std::max(unit_free[u], avail);
-      UnitCycles c = f.breakdown(w, u);
-      const Cycles end = cached_[u] && w && w->visits ? through_cache(u, f.rays[id], *w, start, c) : start + c.busy() + c.stall;
+      const UnitRayWork* w = f.find(id, u);
+      const Cycles end = cached_[u] && w && entered(f.units[u], w) ? through_cache(u, f.rays[id], *w, start)
+                                                                  : start + f.cycles(w, u);
       const Cycles done = transfer(end, answer);
-      c.stall += done - end;
-      ur.cycles += c;
+      ur.cycles.stall += done - end;  // the bus; busy cycles are the trace's (below)
       ++ur.rays;
       unit_free[u] = done;
       done_all = std::max(done_all, done);
@@ -219,7 +222,11 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   *cmd.image = f.image;
   out.per_sphere = f.per_sphere;
   for (std::size_t u = 0; u < units; ++u) {
-    if (!out.units[u].cache) out.units[u].memory.stall = f.unit_cycles[u].stall;
+    const std::uint64_t bus_stall = out.units[u].cycles.stall;
+    out.units[u].cycles = f.unit_cycles[u];
+    if (out.units[u].cache) out.units[u].cycles.stall = out.units[u].memory.stall;  // the cache's, not on-chip memory's
+    else out.units[u].memory.stall = f.unit_cycles[u].stall;
+    out.units[u].cycles.stall += bus_stall;
     for (int k = 0; k < kRayKinds; ++k) {
       out.units[u].node_tests[k] = f.unit_node_tests[u][k];
       for (std::uint32_t s : assignment_[u]) {

@@ -87,7 +87,7 @@ void check_sram(const Arch& a, const std::string& file, const std::string& place
 Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   const JsonIn root(doc, file);
   root.only_keys({"format", "comment", "clock_mhz", "ius", "costs", "ray_fifo_depth", "bus", "memory", "gpp",
-                  "level", "quantum", "balance", "subdivide", "split_rule", "accel", "top", "kernel", "precision",
+                  "level", "quantum", "balance", "subdivide", "split_rule", "split", "accel", "top", "kernel", "precision",
                   "sync_every_ray"});
   const std::string format = root.at("format").string();
   if (format != "oprt-arch/1") root.at("format").fail("unsupported format \"" + format + "\" (expected oprt-arch/1)");
@@ -162,6 +162,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   if (auto v = root.find("balance")) a.balance = one_of(*v, {"paper", "round_robin", "sa_n", "feedback", "view"});
   a.subdivide = static_cast<int>(root.integer_or("subdivide", a.subdivide, 1, 4096));
   if (auto v = root.find("split_rule")) a.split_rule = one_of(*v, {"balanced", "median"});
+  if (auto v = root.find("split")) a.split = one_of(*v, {"count", "extent"});
   if (auto v = root.find("accel")) a.accel = one_of(*v, {"brute", "bvh"});
   if (auto v = root.find("top")) a.top = one_of(*v, {"flat", "bvh"});
   if (auto v = root.find("kernel")) a.kernel = *kernel_named(one_of(*v, {"moller", "watertight"}));
@@ -200,6 +201,7 @@ nlohmann::json to_json(const Arch& a) {
           {"balance", a.balance},
           {"subdivide", a.subdivide},
           {"split_rule", a.split_rule},
+          {"split", a.split},
           {"accel", a.accel},
           {"top", a.top},
           {"kernel", to_string(a.kernel)},

@@ -71,6 +71,9 @@ struct Arch {
   std::string balance = "paper";
   int subdivide = 1;
   std::string split_rule = "balanced";  // how --subdivide splits an object (balance/subdivide.cpp)
+  // How objects become spheres (balance/spheres.h): "count" or "extent"; "" is the scene
+  // format's default, resolved when the scene is known (render records the resolved rule).
+  std::string split;
   std::string accel = "brute";
   std::string top = "flat";  // what a unit walks over its spheres: "flat" (every one) or "bvh" (ref/top_tree.h)
   Kernel kernel = Kernel::moller;

@@ -3,6 +3,9 @@
 #include "ref/parallel.h"
 #include "ref/stop.h"
 
+#include <stdexcept>
+#include <string>
+
 #include <oneapi/tbb/enumerable_thread_specific.h>
 
 namespace oprt::hw {
@@ -12,7 +15,10 @@ namespace {
 // A record as a chunk keeps it: which unit, and indices local to the chunk.
 struct ChunkRecord {
   std::uint32_t unit;
-  UnitRayWork work;  // work.ray: local to the chunk
+  UnitRayWork work;  // work.ray and work.answer: local to the chunk
+};
+struct ChunkDetail {
+  std::uint32_t sphere_tests, node_tests, first_visit, visits;
 };
 
 // What one chunk of pixels produced, in ray order.
@@ -21,6 +27,7 @@ struct Chunk {
   std::vector<RayRecord<T>> rays;
   std::vector<std::uint32_t> pixel_rays;  // per pixel: its number of rays
   std::vector<ChunkRecord> records;
+  std::vector<ChunkDetail> details;  // per record, with detail
   std::vector<VisitWork> visits;
   std::vector<HitRecord<T>> hits;
   std::vector<std::uint32_t> records_of;  // per unit: how many records, visits and hits
@@ -38,7 +45,8 @@ struct Totals {
 template <typename T>
 class Recorder {
  public:
-  Recorder(Chunk<T>& c, Totals& t, const Arch& a, std::size_t units) : c_(c), t_(t), arch_(a) {
+  Recorder(Chunk<T>& c, Totals& t, const Arch& a, std::size_t units, bool detail)
+      : c_(c), t_(t), arch_(a), detail_(detail), node_bytes_(Bytes<T>::node), triangle_bytes_(Bytes<T>::triangle(a.kernel)) {
     c_.records_of.assign(units, 0);
     c_.visits_of.assign(units, 0);
     c_.hits_of.assign(units, 0);
@@ -51,20 +59,29 @@ class Recorder {
     ++c_.pixel_rays.back();
   }
   void begin_unit(std::uint32_t) {
-    cur_ = UnitRayWork{};
-    cur_.ray = static_cast<std::uint32_t>(c_.rays.size() - 1);
-    cur_.first_visit = static_cast<std::uint32_t>(c_.visits.size());
+    sphere_tests_ = visits_ = node_tests_ = 0;
     spheres_before_ = nodes_before_ = 0;
+    bytes_ = 0;
+    first_visit_ = static_cast<std::uint32_t>(c_.visits.size());
+    entered_ = UnitCycles{};
   }
   void visit(const SphereVisit& v) {
-    cur_.node_tests += v.nodes_before;
+    node_tests_ += v.nodes_before;
     nodes_before_ += v.nodes_before;
     if (v.sphere == kNone) return;  // node tests after the last sphere (top_traverse.h)
     t_.per_sphere[kind_][v.sphere] += v.work;
-    ++cur_.sphere_tests;
+    ++sphere_tests_;
     ++spheres_before_;
     if (!v.work.transforms) return;
-    const UnitCycles vc = visit_cycles<T>(v, arch_);
+    UnitCycles vc = visit_cycles<T>(v, arch_);
+    vc.sphere = 0;  // counted for every visit in sphere_tests_
+    entered_ += vc;
+    ++visits_;
+    bytes_ += v.work.tri_tests() * triangle_bytes_ + v.work.box_tests * node_bytes_;
+    if (!detail_) {
+      spheres_before_ = nodes_before_ = 0;
+      return;
+    }
     VisitWork w;
     w.entry = v.entry;
     w.sphere = v.sphere;
@@ -77,33 +94,38 @@ class Recorder {
     w.tri_tests = static_cast<std::uint32_t>(v.work.tri_tests());
     w.box_tests = static_cast<std::uint32_t>(v.work.box_tests);
     c_.visits.push_back(w);
-    ++cur_.visits;
-    cur_.transform += static_cast<std::uint32_t>(vc.transform);
-    cur_.box += w.box;
-    cur_.primitive += w.primitive;
-    cur_.stall += w.stall;
   }
   void end_unit(std::uint32_t u, const UnitAnswer<T>& a) {
     UnitCycles& total = t_.units[u];
-    total.sphere += std::uint64_t{cur_.sphere_tests} * arch_.costs.sphere;
-    total.node += std::uint64_t{cur_.node_tests} * arch_.costs.node;
-    t_.node_tests[u][kind_] += cur_.node_tests;
-    // Every sphere missed (flat: all tested; tree: only its root tested): no record
-    // (FunctionalFrame::breakdown).
-    if (!cur_.visits && (cur_.node_tests == 0 || (cur_.node_tests == 1 && cur_.sphere_tests == 0))) return;
-    total.transform += cur_.transform;
-    total.box += cur_.box;
-    total.primitive += cur_.primitive;
-    total.stall += cur_.stall;
-    cur_.occluded = a.occluded;
-    if (a.hit.valid()) {
-      cur_.hit = static_cast<std::uint32_t>(c_.hits.size());
+    const std::uint64_t spheres = std::uint64_t{sphere_tests_} * arch_.costs.sphere;
+    const std::uint64_t nodes = std::uint64_t{node_tests_} * arch_.costs.node;
+    total.sphere += spheres;
+    total.node += nodes;
+    t_.node_tests[u][kind_] += node_tests_;
+    // Every sphere missed (flat: all tested; with a tree: only its root tested, and missed):
+    // no record (FunctionalFrame::cycles).
+    if (!visits_ && (node_tests_ == 0 || (node_tests_ == 1 && sphere_tests_ == 0))) return;
+    total += entered_;
+    const std::uint64_t cycles = spheres + nodes + entered_.busy() + entered_.stall;
+    if (cycles > kNone || bytes_ > kNone)
+      throw std::runtime_error("one unit's work on one ray exceeds 2^32 cycles or bytes (" + std::to_string(cycles) +
+                               " cycles): split the objects into more spheres (--subdivide) or use --accel bvh");
+    UnitRayWork w;
+    w.ray = static_cast<std::uint32_t>(c_.rays.size() - 1);
+    w.cycles = static_cast<std::uint32_t>(cycles);
+    w.bytes = static_cast<std::uint32_t>(bytes_);
+    if (a.occluded) {
+      w.answer = kOccluded;
+    } else if (a.hit.valid()) {
+      w.answer = static_cast<std::uint32_t>(c_.hits.size());
       c_.hits.push_back(a.hit);
       ++c_.hits_of[u];
     }
-    c_.records.push_back({u, cur_});
+    c_.records.push_back({u, w});
     ++c_.records_of[u];
-    c_.visits_of[u] += cur_.visits;
+    if (!detail_) return;
+    c_.details.push_back({sphere_tests_, node_tests_, first_visit_, visits_});
+    c_.visits_of[u] += visits_;
   }
   void end_ray() {}
 
@@ -111,20 +133,26 @@ class Recorder {
   Chunk<T>& c_;
   Totals& t_;
   const Arch& arch_;
+  const bool detail_;
+  const std::uint32_t node_bytes_, triangle_bytes_;
   int kind_ = 0;
-  UnitRayWork cur_;
-  std::uint32_t spheres_before_ = 0, nodes_before_ = 0;
+  std::uint32_t sphere_tests_ = 0, visits_ = 0, first_visit_ = 0, node_tests_ = 0;
+  std::uint32_t spheres_before_ = 0, nodes_before_ = 0;  // tests since the last entered sphere
+  std::uint64_t bytes_ = 0;
+  UnitCycles entered_;  // the visits that entered a sphere
 };
 
 }  // namespace
 
 template <typename T>
 void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const std::vector<IuRegisters<T>>& units,
-                      const CameraRays& camera, const Shader<T>& shader, const Arch& arch, int width, int height) {
+                      const CameraRays& camera, const Shader<T>& shader, const Arch& arch, int width, int height,
+                      bool detail) {
   const std::size_t pixels = static_cast<std::size_t>(width) * height;
   const std::size_t spheres = g.sphere_count();
   const std::size_t n_units = units.size();
   out.image = FrameImage(width, height);
+  out.detailed = detail;
   out.sphere_cost = arch.costs.sphere;
   out.node_cost = arch.costs.node;
   out.unit_entries.clear();
@@ -150,7 +178,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
   parallel_chunks(pixels, kPixelsPerChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
     throw_if_stopped();
     Local& l = locals.local();
-    Recorder<T> rec(chunks[c], l.totals, arch, n_units);
+    Recorder<T> rec(chunks[c], l.totals, arch, n_units, detail);
     for (std::size_t p = begin; p < end; ++p)
       trace_pixel(in, static_cast<int>(p % width), static_cast<int>(p / width), out.image, rec, l.scratch);
   });
@@ -185,8 +213,12 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
       h += chunks[c].hits_of[u];
     }
     out.units[u].work.resize(r);
-    out.units[u].visits.resize(v);
     out.units[u].hits.resize(h);
+    out.units[u].sphere_tests.resize(detail ? r : 0);
+    out.units[u].node_tests.resize(detail ? r : 0);
+    out.units[u].visit_first.resize(detail ? r + 1 : 0);
+    out.units[u].visits.resize(v);
+    if (detail) out.units[u].visit_first[r] = v;
   }
   for (std::size_t c = 0; c < n_chunks; ++c) {
     ray_base[c + 1] = ray_base[c] + chunks[c].rays.size();
@@ -196,7 +228,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
   out.rays.resize(rays);
   out.pixel_rays.resize(pixels + 1);
   parallel_chunks(n_chunks, 1, [&](std::size_t c, std::size_t, std::size_t) {
-    const Chunk<T>& k = chunks[c];
+    Chunk<T>& k = chunks[c];
     std::copy(k.rays.begin(), k.rays.end(), out.rays.begin() + static_cast<std::ptrdiff_t>(ray_base[c]));
     auto r = static_cast<std::uint32_t>(ray_base[c]);
     for (std::size_t p = 0; p < k.pixel_rays.size(); ++p) {
@@ -206,20 +238,27 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
     std::vector<std::uint32_t> next_rec(rec_base.begin() + c * n_units, rec_base.begin() + (c + 1) * n_units);
     std::vector<std::uint32_t> next_visit(visit_base.begin() + c * n_units, visit_base.begin() + (c + 1) * n_units);
     std::vector<std::uint32_t> next_hit(hit_base.begin() + c * n_units, hit_base.begin() + (c + 1) * n_units);
-    for (const ChunkRecord& cr : k.records) {
+    for (std::size_t j = 0; j < k.records.size(); ++j) {
+      const ChunkRecord& cr = k.records[j];
       UnitTrace<T>& ut = out.units[cr.unit];
       UnitRayWork w = cr.work;
       w.ray += static_cast<std::uint32_t>(ray_base[c]);
-      std::copy(k.visits.begin() + w.first_visit, k.visits.begin() + w.first_visit + w.visits,
-                ut.visits.begin() + next_visit[cr.unit]);
-      w.first_visit = next_visit[cr.unit];
-      next_visit[cr.unit] += w.visits;
-      if (w.hit != kNone) {
-        ut.hits[next_hit[cr.unit]] = k.hits[w.hit];
-        w.hit = next_hit[cr.unit]++;
+      if (w.answer != kNone && w.answer != kOccluded) {
+        ut.hits[next_hit[cr.unit]] = k.hits[w.answer];
+        w.answer = next_hit[cr.unit]++;
       }
-      ut.work[next_rec[cr.unit]++] = w;
+      const std::uint32_t i = next_rec[cr.unit]++;
+      ut.work[i] = w;
+      if (!detail) continue;
+      const ChunkDetail& d = k.details[j];
+      ut.sphere_tests[i] = d.sphere_tests;
+      ut.node_tests[i] = d.node_tests;
+      ut.visit_first[i] = next_visit[cr.unit];
+      std::copy(k.visits.begin() + d.first_visit, k.visits.begin() + d.first_visit + d.visits,
+                ut.visits.begin() + next_visit[cr.unit]);
+      next_visit[cr.unit] += d.visits;
     }
+    k = Chunk<T>{};  // its memory back before the next chunk's copy: peak = the frame, not twice it
   });
   out.pixel_rays[pixels] = static_cast<std::uint32_t>(rays);
   // Each unit's index: one bit per ray, and the records before each 64-ray word.
@@ -241,9 +280,9 @@ template struct FunctionalFrame<float>;
 template struct FunctionalFrame<double>;
 template void trace_functional(FunctionalFrame<float>&, const SceneGeometry<float>&,
                                const std::vector<IuRegisters<float>>&, const CameraRays&, const Shader<float>&,
-                               const Arch&, int, int);
+                               const Arch&, int, int, bool);
 template void trace_functional(FunctionalFrame<double>&, const SceneGeometry<double>&,
                                const std::vector<IuRegisters<double>>&, const CameraRays&, const Shader<double>&,
-                               const Arch&, int, int);
+                               const Arch&, int, int, bool);
 
 }  // namespace oprt::hw

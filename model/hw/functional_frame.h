@@ -5,9 +5,12 @@
 // still carry the rays and the units' answers; the GPP merges the answers and checks them
 // against this record. Plain C++, no SystemC.
 //
-// Storage is sparse: a unit whose ray enters none of its spheres, the common case, has no
-// record (it tested every sphere in its registers, or with a tree over its spheres only the
-// root, and answered "miss" / "not occluded").
+// Storage is sparse and small, because it holds a whole frame: a unit whose ray enters none
+// of its spheres, the common case, has no record (it tested every sphere in its registers,
+// or with a tree over its spheres only the root, and answered "miss" / "not occluded"); a
+// record is 16 bytes. The per-sphere detail of a record (which spheres, what each cost) is
+// kept only when something needs it: the waveform, which shows each phase, and object
+// memories that are caches, which time each visit (visit_stream.h).
 #pragma once
 
 #include "hw/arch.h"
@@ -24,15 +27,13 @@ namespace oprt::hw {
 // One unit's work on one ray, when it entered at least one sphere.
 struct UnitRayWork {
   std::uint32_t ray = 0;
-  std::uint32_t sphere_tests = 0;  // register entries tested (a shadow ray stops at its first occluder)
-  std::uint32_t node_tests = 0;    // --top bvh: nodes of the unit's tree tested
-  std::uint32_t transform = 0, box = 0, primitive = 0, stall = 0;  // cycles; stall: memory streaming
-  std::uint32_t first_visit = 0, visits = 0;  // its entered spheres (UnitTrace::visits), in register order
-  std::uint32_t hit = kNone;                  // primary: index into UnitTrace::hits, if it found one
-  bool occluded = false;                      // shadow: it found an occluder
+  std::uint32_t cycles = 0;  // busy and memory stall
+  std::uint32_t bytes = 0;   // read from object memory: the triangles and nodes it tested
+  std::uint32_t answer = kNone;  // primary: index into UnitTrace::hits; shadow: kOccluded; else kNone
 };
+constexpr std::uint32_t kOccluded = kNone - 1;
 
-// A sphere a unit entered on a ray.
+// A sphere a unit entered on a ray (detail).
 struct VisitWork {
   std::uint32_t entry = 0;   // position in the unit's registers
   std::uint32_t sphere = 0;  // global sphere id
@@ -47,10 +48,14 @@ struct VisitWork {
 template <typename T>
 struct UnitTrace {
   std::vector<UnitRayWork> work;
-  std::vector<VisitWork> visits;
   std::vector<HitRecord<T>> hits;
   std::vector<std::uint64_t> has;   // bit r % 64 of word r / 64: ray r has a record
   std::vector<std::uint32_t> rank;  // per word: records of the rays before it
+  // Detail, per record: register entries tested (a shadow ray stops at its first occluder),
+  // nodes of the unit's tree tested (--top bvh) and its entered spheres, visits[visit_first[i],
+  // visit_first[i + 1]).
+  std::vector<std::uint32_t> sphere_tests, node_tests, visit_first;
+  std::vector<VisitWork> visits;
 
   const UnitRayWork* find(std::uint32_t r) const {
     const std::uint64_t m = has[r >> 6];
@@ -58,6 +63,7 @@ struct UnitTrace {
     if (!((m >> bit) & 1)) return nullptr;
     return &work[rank[r >> 6] + static_cast<std::uint32_t>(__builtin_popcountll(m & ((std::uint64_t{1} << bit) - 1)))];
   }
+  std::uint32_t index(const UnitRayWork* w) const { return static_cast<std::uint32_t>(w - work.data()); }
 };
 
 template <typename T>
@@ -67,6 +73,7 @@ struct FunctionalFrame {
   std::vector<RayRecord<T>> rays;
   std::vector<std::uint32_t> pixel_rays;  // pixel p owns rays [pixel_rays[p], pixel_rays[p + 1])
   std::vector<UnitTrace<T>> units;
+  bool detailed = false;                  // the records' detail was kept
   FrameImage image;                       // what the frame renders (the GPP's pixels must agree)
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere]
   std::vector<UnitCycles> unit_cycles;    // per unit, busy and memory stall (no bus time)
@@ -80,45 +87,33 @@ struct FunctionalFrame {
   // Unit u's record for ray r, or null if the ray entered none of its spheres.
   const UnitRayWork* find(std::uint32_t r, std::uint32_t u) const { return units[u].find(r); }
   // Cycles unit u spends on a ray (busy and memory stall), with its record or without.
-  UnitCycles breakdown(const UnitRayWork* w, std::uint32_t u) const {
-    UnitCycles c;
-    if (!w) {
-      if (unit_top[u]) c.node = node_cost;  // the root, missed
-      else c.sphere = std::uint64_t{unit_entries[u]} * sphere_cost;
-      return c;
-    }
-    c.sphere = std::uint64_t{w->sphere_tests} * sphere_cost;
-    c.node = std::uint64_t{w->node_tests} * node_cost;
-    c.transform = w->transform;
-    c.box = w->box;
-    c.primitive = w->primitive;
-    c.stall = w->stall;
-    return c;
+  std::uint64_t cycles(const UnitRayWork* w, std::uint32_t u) const {
+    if (w) return w->cycles;
+    return unit_top[u] ? node_cost : std::uint64_t{unit_entries[u]} * sphere_cost;  // with a tree: the root, missed
   }
   // Unit u's answer to ray r.
   UnitAnswer<T> answer(const UnitRayWork* w, std::uint32_t u) const {
     UnitAnswer<T> a;
-    if (w) {
-      a.occluded = w->occluded;
-      if (w->hit != kNone) a.hit = units[u].hits[w->hit];
-    }
+    if (w && w->answer == kOccluded) a.occluded = true;
+    else if (w && w->answer != kNone) a.hit = units[u].hits[w->answer];
     return a;
   }
 };
 
-// Trace every pixel of the frame for the units' registers (units[u] is unit u's). Reuses
-// `out`'s storage from frame to frame.
+// Trace every pixel of the frame for the units' registers (units[u] is unit u's), keeping
+// each record's detail if `detail`. Reuses `out`'s storage from frame to frame. Throws
+// InputError if one unit's work on one ray would exceed 2^32 cycles.
 template <typename T>
 void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& geometry,
                       const std::vector<IuRegisters<T>>& units, const CameraRays& camera, const Shader<T>& shader,
-                      const Arch& arch, int width, int height);
+                      const Arch& arch, int width, int height, bool detail);
 
-// Calls phase(state, cycles) for each phase of unit u's work on ray r in time order, as the
+// Calls phase(state, cycles) for each phase of unit u's work on a ray in time order, as the
 // unit performs it: sphere tests (and node tests of its tree), and for each entered sphere
-// its transform, box tests, triangle tests and memory stall. Consecutive tests before a
-// sphere is entered form one phase of node tests, then one of sphere tests. State codes are
+// its transform, box tests, triangle tests and memory stall. The tests before a sphere is
+// entered form one phase of node tests, then one of sphere tests. State codes are
 // UnitState's (intersection_unit.h): sphere 1, transform 2, primitive 3, stall 4, box 5,
-// node 6.
+// node 6. Needs the detail (FunctionalFrame::detailed).
 template <typename T, typename Phase>
 void for_each_phase(const FunctionalFrame<T>& f, const UnitRayWork* w, std::uint32_t u, std::uint32_t transform_cost,
                     Phase&& phase) {
@@ -130,9 +125,11 @@ void for_each_phase(const FunctionalFrame<T>& f, const UnitRayWork* w, std::uint
     else emit(1, std::uint64_t{f.unit_entries[u]} * f.sphere_cost);
     return;
   }
+  const UnitTrace<T>& ut = f.units[u];
+  const std::uint32_t i = ut.index(w);
   std::uint32_t spheres = 0, nodes = 0;
-  for (std::uint32_t i = w->first_visit; i < w->first_visit + w->visits; ++i) {
-    const VisitWork& v = f.units[u].visits[i];
+  for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
+    const VisitWork& v = ut.visits[k];
     emit(6, std::uint64_t{v.nodes_before} * f.node_cost);
     emit(1, std::uint64_t{v.spheres_before} * f.sphere_cost);
     spheres += v.spheres_before;
@@ -142,17 +139,17 @@ void for_each_phase(const FunctionalFrame<T>& f, const UnitRayWork* w, std::uint
     emit(3, v.primitive);
     emit(4, v.stall);
   }
-  emit(6, std::uint64_t{w->node_tests - nodes} * f.node_cost);
-  emit(1, std::uint64_t{w->sphere_tests - spheres} * f.sphere_cost);
+  emit(6, std::uint64_t{ut.node_tests[i] - nodes} * f.node_cost);
+  emit(1, std::uint64_t{ut.sphere_tests[i] - spheres} * f.sphere_cost);
 }
 
 extern template struct FunctionalFrame<float>;
 extern template struct FunctionalFrame<double>;
 extern template void trace_functional(FunctionalFrame<float>&, const SceneGeometry<float>&,
                                       const std::vector<IuRegisters<float>>&, const CameraRays&, const Shader<float>&,
-                                      const Arch&, int, int);
+                                      const Arch&, int, int, bool);
 extern template void trace_functional(FunctionalFrame<double>&, const SceneGeometry<double>&,
                                       const std::vector<IuRegisters<double>>&, const CameraRays&,
-                                      const Shader<double>&, const Arch&, int, int);
+                                      const Shader<double>&, const Arch&, int, int, bool);
 
 }  // namespace oprt::hw

@@ -273,7 +273,9 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   const CameraRays camera(cmd.camera, cmd.width, cmd.height);
   const Shader<T> shader(scene_, setup);
   try {
-    trace_functional(frame_, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height);
+    // The records' detail for the waveform's phases, and for caches, which time each visit.
+    const bool caches = std::find(cached_.begin(), cached_.end(), 1) != cached_.end();
+    trace_functional(frame_, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height, vcd_ != nullptr || caches);
   } catch (const Interrupted&) {  // SIGINT / SIGTERM: abandon the frame; the testbench says what completed
     sc_stop();
     wait(abandoned_);  // never notified

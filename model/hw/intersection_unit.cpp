@@ -81,16 +81,16 @@ void IntersectionUnit<T>::trace_phases(const UnitRayWork* w, sc_time at) {
   const std::uint32_t transform = arch_.kernel_costs().transform;
   for_each_phase(frame_, w, static_cast<std::uint32_t>(id_), transform, [&](std::uint8_t state, std::uint64_t cycles) {
     trace_state(static_cast<UnitState>(state), at);
-    at += cycle_ * static_cast<double>(cycles);
+    at += sc_time::from_value(cycles * cycle_.value());
   });
 }
 
-// One burst per entered sphere: its triangles (and, with a BVH, its nodes) as tested. The
-// memory's latency is already in the visit's stall cycles (memory_timing.h).
+// The triangles (and, with a BVH, the nodes) a ray's visits tested: one read per ray, or per
+// entered sphere when the trace kept that detail. The memory's latency is already in the
+// visits' stall cycles (memory_timing.h).
 template <typename T>
-void IntersectionUnit<T>::read_memory(const VisitWork& v) {
-  const std::uint64_t bytes = std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node;
-  MemoryReadPacket packet{v.sphere, bytes};
+void IntersectionUnit<T>::read_memory(std::uint32_t sphere, std::uint64_t bytes) {
+  MemoryReadPacket packet{sphere, bytes};
   read_.set_command(tlm::TLM_READ_COMMAND);
   read_.set_address(0);
   read_.set_data_ptr(reinterpret_cast<unsigned char*>(&packet));
@@ -99,40 +99,44 @@ void IntersectionUnit<T>::read_memory(const VisitWork& v) {
   sc_time latency = SC_ZERO_TIME;
   mem->b_transport(read_, latency);
   if (read_.is_response_error())
-    SC_REPORT_FATAL(name(), ("object memory does not hold sphere " + std::to_string(v.sphere)).c_str());
+    SC_REPORT_FATAL(name(), ("object memory does not hold sphere " + std::to_string(sphere)).c_str());
 }
 
 template <typename T>
 void IntersectionUnit<T>::advance_tracing(UnitState s, std::uint64_t cycles) {
   if (!cycles) return;
   if (vcd_) trace_state(s, clock_.now());
-  clock_.advance(cycle_ * static_cast<double>(cycles));
+  clock_.advance(sc_time::from_value(cycles * cycle_.value()));
 }
 
 // A ray through a cache: visit by visit, each timed by the memory from the moment its sphere
-// test hits. The tests before each visit, and after the last, are the functional trace's.
+// test hits. The tests before each visit, and after the last, are the functional trace's;
+// the trace's memory stall (on-chip memory's) is replaced by the cache's. Returns the cycles
+// the unit spent: busy and the cache's stall.
 template <typename T>
-UnitCycles IntersectionUnit<T>::trace_through_cache(const RayRecord<T>& r, const UnitRayWork& w) {
-  const auto unit = static_cast<std::uint32_t>(id_);
-  UnitCycles c = frame_.breakdown(&w, unit);
-  c.stall = 0;  // the trace's is on-chip memory's; the cache's replaces it
+std::uint64_t IntersectionUnit<T>::trace_through_cache(const RayRecord<T>& r, const UnitRayWork& w) {
+  const UnitTrace<T>& ut = frame_.units[static_cast<std::uint32_t>(id_)];
+  const std::uint32_t i = ut.index(w);
   const std::uint32_t transform = arch_.kernel_costs().transform;
+  const sc_time start = clock_.now();
   std::uint32_t spheres = 0, nodes = 0;
-  for (std::uint32_t i = w.first_visit; i < w.first_visit + w.visits; ++i) {
-    const VisitWork& v = frame_.units[unit].visits[i];
+  std::uint64_t trace_stall = 0, stall = 0;
+  for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
+    const VisitWork& v = ut.visits[k];
     advance_tracing(UnitState::node, std::uint64_t{v.nodes_before} * frame_.node_cost);
     advance_tracing(UnitState::sphere, std::uint64_t{v.spheres_before} * frame_.sphere_cost);
     nodes += v.nodes_before;
     spheres += v.spheres_before;
+    trace_stall += v.stall;
     const WorkCounts again = visit_stream(geom_, regs_, r.ray, r.kind, v.entry, addresses_, stream_);
     if (again.tri_tests() != v.tri_tests || again.box_tests != v.box_tests)
       SC_REPORT_FATAL(name(), "a visit walked again for its addresses differs from the functional trace");
     const VisitCosts costs = visit_costs(arch_, again);
     if (vcd_) {
       trace_state(UnitState::transform, clock_.now());
-      if (again.box_setups) trace_state(UnitState::box, clock_.now() + cycle_ * static_cast<double>(transform));
+      if (again.box_setups) trace_state(UnitState::box, clock_.now() + sc_time::from_value(transform * cycle_.value()));
     }
-    const std::uint64_t bytes = std::uint64_t{v.tri_tests} * geom_.triangle_bytes() + std::uint64_t{v.box_tests} * Bytes<T>::node;
+    const std::uint64_t bytes = std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node;
     MemoryReadPacket packet{v.sphere, bytes, &stream_, &costs, sync_misses_, vcd_ ? vcd_state_ : -1};
     read_.set_command(tlm::TLM_READ_COMMAND);
     read_.set_address(0);
@@ -146,11 +150,15 @@ UnitCycles IntersectionUnit<T>::trace_through_cache(const RayRecord<T>& r, const
       SC_REPORT_FATAL(name(), ("object memory does not hold sphere " + std::to_string(v.sphere)).c_str());
     if (sync_misses_) clock_.resync();
     clock_.advance_to(sc_time_stamp() + delay);  // the visit's end
-    c.stall += packet.stall;
+    stall += packet.stall;
   }
-  advance_tracing(UnitState::node, std::uint64_t{w.node_tests - nodes} * frame_.node_cost);
-  advance_tracing(UnitState::sphere, std::uint64_t{w.sphere_tests - spheres} * frame_.sphere_cost);
-  return c;
+  advance_tracing(UnitState::node, std::uint64_t{ut.node_tests[i] - nodes} * frame_.node_cost);
+  advance_tracing(UnitState::sphere, std::uint64_t{ut.sphere_tests[i] - spheres} * frame_.sphere_cost);
+  stats_.cache_stall += stall;
+  const std::uint64_t spent = w.cycles - trace_stall + stall;  // busy, and the cache's stall
+  if (static_cast<std::uint64_t>((clock_.now() - start).value() / cycle_.value()) != spent)
+    SC_REPORT_FATAL(name(), "a ray through the cache took other cycles than its work and its stalls");
+  return spent;
 }
 
 template <typename T>
@@ -175,16 +183,23 @@ void IntersectionUnit<T>::run() {
     const int kind = static_cast<int>(r.kind);
     const UnitRayWork* w = frame_.find(e.ray, unit);
     ++stats_.rays[kind];
-    if (cached_ && w && w->visits) {
-      stats_.cycles += trace_through_cache(r, *w);
+    const UnitTrace<T>& ut = frame_.units[unit];
+    if (cached_ && w && ut.visit_first[ut.index(w) + 1] > ut.visit_first[ut.index(w)]) {
+      stats_.charged += trace_through_cache(r, *w);  // the trace keeps the detail for caches (Gpp)
     } else {
-      if (w)
-        for (std::uint32_t i = w->first_visit; i < w->first_visit + w->visits; ++i)
-          read_memory(frame_.units[unit].visits[i]);
+      if (w && frame_.detailed) {
+        const std::uint32_t i = ut.index(w);
+        for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
+          const VisitWork& v = ut.visits[k];
+          read_memory(v.sphere, std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node);
+        }
+      } else if (w) {
+        read_memory(kNone, w->bytes);
+      }
       if (vcd_) trace_phases(w, clock_.now());
-      const UnitCycles c = frame_.breakdown(w, unit);
-      clock_.advance(cycle_ * static_cast<double>(c.busy() + c.stall));
-      stats_.cycles += c;
+      const std::uint64_t cycles = frame_.cycles(w, unit);
+      stats_.charged += cycles;
+      clock_.advance(sc_time::from_value(cycles * cycle_.value()));
     }
 
     // Answer the GPP. The unit waits for its transfer: time on the bus is a stall.
@@ -209,7 +224,7 @@ void IntersectionUnit<T>::run() {
     if (answer_.is_response_error()) SC_REPORT_FATAL(name(), "answer to the GPP failed");
     clock_.advance_to(sim + delay);  // decoupled: the transfer's end; at: already waited
     if (arch_.bus.model == BusModel::shared)
-      stats_.cycles.stall += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
+      stats_.bus_stall += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
   }
 }
 

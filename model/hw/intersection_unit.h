@@ -36,8 +36,15 @@ namespace oprt::hw {
 
 enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primitive = 3, stall = 4, box = 5, node = 6 };
 
+// What the unit measured in the frame. Its busy cycles by activity are the functional
+// trace's (FunctionalFrame::unit_cycles); `charged` is what it waited out for them, which must
+// agree, and the bus is the stall only the timed model knows.
 struct UnitStats {
-  UnitCycles cycles;
+  std::uint64_t charged = 0;    // busy and memory stall, summed ray by ray
+  std::uint64_t bus_stall = 0;  // waiting for the shared bus to take its answers
+  // Through an object memory that is a cache (--sram): its stall replaces the trace's, which
+  // is on-chip memory's.
+  std::uint64_t cache_stall = 0;
   std::uint64_t rays[kRayKinds] = {};
 };
 
@@ -62,8 +69,8 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
  private:
   void run();
   void cfg_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
-  void read_memory(const VisitWork& v);
-  UnitCycles trace_through_cache(const RayRecord<T>& r, const UnitRayWork& w);
+  void read_memory(std::uint32_t sphere, std::uint64_t bytes);
+  std::uint64_t trace_through_cache(const RayRecord<T>& r, const UnitRayWork& w);
   void advance_tracing(UnitState s, std::uint64_t cycles);
   void trace_state(UnitState s, const sc_core::sc_time& at);
   void trace_phases(const UnitRayWork* w, sc_core::sc_time at);

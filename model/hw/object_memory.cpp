@@ -28,7 +28,8 @@ ObjectMemory::ObjectMemory(const sc_module_name& name, int unit, const Arch& arc
 
 void ObjectMemory::read_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   auto* r = reinterpret_cast<MemoryReadPacket*>(p.get_data_ptr());
-  if (p.get_command() != tlm::TLM_READ_COMMAND || r->sphere >= loaded_.size() || !loaded_[r->sphere]) {
+  const bool whole_ray = r->sphere == kNone;  // a ray's reads over all its entered spheres
+  if (p.get_command() != tlm::TLM_READ_COMMAND || (!whole_ray && (r->sphere >= loaded_.size() || !loaded_[r->sphere]))) {
     // The unit asked for geometry this memory does not hold: a wiring or assignment bug.
     p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
     return;

@@ -95,7 +95,8 @@ struct MemoryLoadPacket {
   std::vector<std::pair<std::uint64_t, std::uint64_t>> rewritten;
 };
 
-// The reads of one sphere visit: its triangles (and, with a BVH, its nodes).
+// The reads of one sphere visit: its triangles (and, with a BVH, its nodes); sphere kNone:
+// of all the spheres one ray entered.
 struct MemoryReadPacket {
   std::uint32_t sphere;
   std::uint64_t bytes;

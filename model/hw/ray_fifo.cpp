@@ -59,7 +59,7 @@ bool RayFifo::pop(RayEntry& e, const sc_time& at) {
   if (depth_ > 0) pop_time_[pops_ % depth_] = std::max(at, e.avail);
   ++pops_;
   trace(std::max(at, e.avail), -1);
-  freed_.notify();
+  if (depth_ > 0) freed_.notify();  // only a bounded FIFO is ever waited on for room
   return true;
 }
 

@@ -10,7 +10,8 @@
 //   under no `x` is static: it is placed in world coordinates. Within one such group the
 //   triangles are split by material (an Object has one) and then, if a part has more than
 //   `max_object_triangles`, recursively at the median of the triangle centroids along the
-//   longest axis of their bounds, so that every object is spatially compact.
+//   longest axis of their bounds (oprt's --split count; under --split extent the command
+//   line passes 0 and balance/extent_split.h splits the objects' spheres by extent).
 // - `tpa` triangles (per-vertex keyframes, linearly interpolated as BART defines them)
 //   form one deforming object per group and material, with Object::deform set and the
 //   mesh holding the frame-0 shape. They are not split.
@@ -28,7 +29,8 @@ namespace oprt {
 
 struct AffOptions {
   // A static (or rigid) group with more triangles is split into spatially coherent parts of
-  // at most this many. 0 disables splitting.
+  // at most this many. 0 disables splitting. (The command line's default: this under
+  // --split count, 0 under --split extent; testbench/options.h.)
   std::size_t max_object_triangles = 4096;
   // Sphere `s`: a UV sphere of 2 * segments * (rings - 1) triangles (224 by default).
   unsigned sphere_segments = 16;

@@ -21,7 +21,8 @@ extern SceneLimits scene_limits;
 
 // How formats that need choices are read (today only BART .aff: its tessellation of spheres
 // and cones, and the size above which a group is split into several objects). The command
-// line sets them with --tessellation and --max-object-triangles.
+// line sets them with --tessellation and --max-object-triangles (whose default depends on
+// --split: testbench/options.h).
 struct LoadOptions {
   AffOptions aff;
 };

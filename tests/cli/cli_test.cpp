@@ -191,6 +191,39 @@ TEST_CASE("cli: stats name the fields scripts rely on", "[cli]") {
   CHECK(fs::exists(d / "frame_0000.png"));
 }
 
+TEST_CASE("cli: --split chooses how objects become spheres and info shows local and world radii", "[cli][split]") {
+  const std::string aff = std::string(OPRT_SOURCE_DIR) + "/tests/data/aff/features.aff";
+  Result r = run_oprt("info " + aff);
+  CHECK(r.status == 0);
+  CHECK(r.output.find("(split extent, subdivide 1)") != std::string::npos);  // the default for .aff
+  CHECK(r.output.find("r (local)  r (world)") != std::string::npos);
+  r = run_oprt("info " + aff + " --split count");
+  CHECK(r.output.find("spheres     5 (split count, subdivide 1)") != std::string::npos);  // one per object
+  r = run_oprt("info " + scene("paper_room.json"));
+  CHECK(r.output.find("spheres     32 (split count, subdivide 1)") != std::string::npos);  // the paper's, as written
+  // render records the rule it used and each sphere's world radius.
+  const fs::path d = temp_dir("split");
+  const std::string render = "render " + aff + " --frames 0 --resolution 16x12 --ius 2 --level analytic --no-progress";
+  REQUIRE(run_oprt(render + " --out " + (d / "extent").string()).status == 0);
+  REQUIRE(run_oprt(render + " --split count --out " + (d / "count").string()).status == 0);
+  const auto extent = stats(d / "extent"), count = stats(d / "count");
+  CHECK(extent["arch"]["split"] == "extent");
+  CHECK(count["arch"]["split"] == "count");
+  CHECK(count["load_options"]["aff_max_object_triangles"] == 4096);
+  CHECK(extent["load_options"]["aff_max_object_triangles"] == 0);
+  CHECK(count["spheres"] == 5);
+  CHECK(extent["spheres"].get<int>() > 5);
+  CHECK(extent["sphere_list"][0].contains("world_radius"));
+  // An unknown rule, on the command line or in an architecture file.
+  r = run_oprt("info " + aff + " --split size");
+  CHECK(r.status == 2);
+  CHECK(r.output.find("--split") != std::string::npos);
+  std::ofstream(d / "arch.json") << R"({"format": "oprt-arch/1", "split": "size"})";
+  r = run_oprt(render + " --arch " + (d / "arch.json").string() + " --out " + (d / "bad").string());
+  CHECK(r.status == 2);
+  CHECK(r.output.find("arch.json: /split") != std::string::npos);
+}
+
 TEST_CASE("cli: with --accel bvh the levels agree and the image is the brute-force one", "[cli][bvh]") {
   const fs::path d = temp_dir("bvh");
   const std::string common = "render " + scene("paper_room.json") + " --frames 4 --resolution 24x24 --ius 6 --no-progress";

@@ -22,7 +22,8 @@ template <typename T>
 Run simulate_scene(const Scene& scene, const Arch& arch, FrameRange frames, int width, int height,
                    const std::string& vcd = "") {
   Run r;
-  r.spheres = make_spheres(scene, arch.subdivide, split_rule_named(arch.split_rule));
+  r.spheres = make_spheres(scene, arch.subdivide, split_rule_named(arch.split_rule),
+                           object_split_named(arch.split, scene.source));  // as oprt render
   r.job.scene = &scene;
   r.job.arch = arch;
   r.job.frames = frames;
