@@ -116,7 +116,7 @@ void IntersectionUnit<T>::advance_tracing(UnitState s, std::uint64_t cycles) {
 template <typename T>
 std::uint64_t IntersectionUnit<T>::trace_through_cache(const RayRecord<T>& r, const UnitRayWork& w) {
   const UnitTrace<T>& ut = frame_.units[static_cast<std::uint32_t>(id_)];
-  const std::uint32_t i = ut.index(w);
+  const std::uint32_t i = ut.index(&w);
   const std::uint32_t transform = arch_.kernel_costs().transform;
   const sc_time start = clock_.now();
   std::uint32_t spheres = 0, nodes = 0;

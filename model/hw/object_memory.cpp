@@ -44,8 +44,8 @@ void ObjectMemory::read_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   // A cache: time the visit line by line. Each miss is sent when it is due; with `sync` the
   // memory first waits until then, so that DRAM sees every unit's requests in time order.
   const std::uint64_t line_bytes = cache_.line_bytes();
-  auto fetch = [&](std::uint64_t line, std::uint64_t at) {
-    const sc_time due = cycle_ * static_cast<double>(at);
+  auto fetch = [&](std::uint64_t line, std::uint64_t t) {
+    const sc_time due = at(t);
     if (r->sync && due > sc_time_stamp()) wait(due - sc_time_stamp());
     MemoryFillPacket f{static_cast<std::uint32_t>(unit_), line * line_bytes};
     fill_.set_command(tlm::TLM_READ_COMMAND);
@@ -65,16 +65,16 @@ void ObjectMemory::read_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   };
   // The unit's stalls, as they happen (never before simulation time: a miss sent late by a
   // full miss window can make the unit wait from a time the memory has already passed).
-  auto state = [&](int code, std::uint64_t at) {
+  auto state = [&](int code, std::uint64_t t) {
     if (vcd_ && r->state_var >= 0)
-      vcd_->change(r->state_var, std::max(cycle_ * static_cast<double>(at), sc_time_stamp()).value(),
+      vcd_->change(r->state_var, std::max(this->at(t), sc_time_stamp()).value(),
                    static_cast<std::uint64_t>(code));
   };
   const std::uint64_t stall_before = counts_.stall;
   const std::uint64_t end =
       time_visit(*r->costs, *r->stream, cycles(sc_time_stamp() + delay), cache_, window_, counts_, fetch, state);
   r->stall = counts_.stall - stall_before;
-  delay = cycle_ * static_cast<double>(end) - sc_time_stamp();
+  delay = at(end) - sc_time_stamp();
 }
 
 void ObjectMemory::load_transport(tlm::tlm_generic_payload& p, sc_time&) {

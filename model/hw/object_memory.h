@@ -52,7 +52,8 @@ class ObjectMemory : public sc_core::sc_module {
  private:
   void read_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
   void load_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
-  std::uint64_t cycles(const sc_core::sc_time& t) const { return static_cast<std::uint64_t>(t / cycle_ + 0.5); }
+  std::uint64_t cycles(const sc_core::sc_time& t) const { return t.value() / cycle_.value(); }
+  sc_core::sc_time at(std::uint64_t cycles) const { return sc_core::sc_time::from_value(cycles * cycle_.value()); }
 
   const int unit_;
   const Arch& arch_;
