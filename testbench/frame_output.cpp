@@ -19,6 +19,9 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   fs.bus_transfers = run.bus_transfers;
   fs.memory_load_bytes = run.memory_load_bytes;
   fs.memory_load_cycles = run.memory_load_cycles;
+  fs.refit_nodes = run.refit_nodes;
+  fs.refit_cycles = run.refit_cycles;
+  fs.built_nodes = run.built_nodes;
   fs.image_hash = image.hash();
   fs.sphere_cycles.assign(geometry.sphere_count(), 0);
   fs.sphere_entries.assign(geometry.sphere_count(), {});
@@ -37,9 +40,14 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
     us.cycles = r.cycles;
     const std::uint64_t used = r.cycles.busy() + r.cycles.stall;
     us.idle = fs.makespan > used ? fs.makespan - used : 0;
-    for (int k = 0; k < kRayKinds; ++k)
+    for (int k = 0; k < kRayKinds; ++k) {
       for (std::uint32_t s : us.spheres) us.work[k] += run.per_sphere[k][s];
+      us.work[k].node_tests = r.node_tests[k];  // the unit's, never a sphere's
+    }
     us.memory_bytes = r.memory_bytes;
+    us.cache = r.cache;
+    us.assigned_bytes = r.assigned_bytes;
+    us.memory = r.memory;
     fs.units.push_back(std::move(us));
   }
   return fs;

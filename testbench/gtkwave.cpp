@@ -32,7 +32,7 @@ void write_gtkwave_save(const std::string& vcd_path, const std::string& save_pat
   const fs::path filter = save.parent_path() / (save.stem().string() + "_state.txt");
   write_atomically(filter.string(), [&](const std::string& tmp) {
     std::ofstream f(tmp);
-    f << "0 idle\n1 sphere\n2 transform\n3 primitive\n4 stall\n5 box\n";
+    f << "0 idle\n1 sphere\n2 transform\n3 primitive\n4 stall\n5 box\n6 node\n";
     f.close();
     if (!f) throw std::runtime_error("cannot write " + tmp);
   });
@@ -45,7 +45,7 @@ void write_gtkwave_save(const std::string& vcd_path, const std::string& save_pat
     if (s.find(".gpp.") != std::string::npos) gpp.push_back(full);
     else if (s.find(".bus.") != std::string::npos) bus.push_back(full);
     else {
-      for (const char* kind : {".iu", ".fifo"}) {
+      for (const char* kind : {".iu", ".fifo", ".memory"}) {
         const auto at = s.find(kind);
         if (at == std::string::npos) continue;
         unit[std::stoi(s.substr(at + std::string(kind).size()))].push_back(full);

@@ -17,7 +17,7 @@ int run_info(const CommonOptions& o) {
   if (o.schedules) {
     for (const OpGraph* g : {&sphere_textbook_graph(), &sphere_stable_graph(), &transform_graph(), &moller_graph(),
                               &transform_watertight_graph(), &watertight_graph(), &box_setup_graph(),
-                              &box_graph()}) {
+                              &box_graph(), &top_node_graph()}) {
       const Schedule s = list_schedule(*g);
       std::printf("%s\n", s.table().c_str());
     }

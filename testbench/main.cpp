@@ -83,6 +83,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"paper", "round_robin", "sa_n", "feedback", "view"}));
   render->add_option("--subdivide", ro.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
   render->add_option("--accel", ro.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
+  render->add_option("--top", ro.top, "flat | bvh: every sphere per ray, or a tree over each unit's spheres")
+      ->check(CLI::IsMember({"flat", "bvh"}));
+  render->add_option("--sram", ro.sram,
+                     "object memory per unit in bytes (64K, 4M); a unit whose spheres need more uses it as a cache "
+                     "in front of DRAM (0: no limit)");
   render->add_option("--kernel", ro.kernel, "moller | watertight")->check(CLI::IsMember({"moller", "watertight"}));
   render->add_option("--precision", ro.precision, "float | double")->check(CLI::IsMember({"float", "double"}));
   render->add_option("--resolution", ro.resolution, "WxH; default: the scene's");

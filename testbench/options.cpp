@@ -54,4 +54,18 @@ LoadOptions load_options_for(LoadOptions load, std::optional<std::size_t> max_ob
   return load;
 }
 
+std::uint64_t parse_bytes(const std::string& text, const std::string& what) {
+  std::size_t digits = 0;
+  while (digits < text.size() && std::isdigit(static_cast<unsigned char>(text[digits]))) ++digits;
+  std::string unit = text.substr(digits);
+  std::uint64_t scale = 1;
+  if (unit == "K" || unit == "KB" || unit == "k" || unit == "kB") scale = 1024;
+  else if (unit == "M" || unit == "MB") scale = 1024 * 1024;
+  else if (!unit.empty()) digits = 0;
+  long long n;
+  if (digits == 0 || !parse_int(text.substr(0, digits), n) || static_cast<std::uint64_t>(n) > (std::uint64_t{1} << 40) / scale)
+    throw InputError(what, text, "expected a byte count such as 65536, 64K or 4M (at most 1 TiB; 0: no limit)");
+  return static_cast<std::uint64_t>(n) * scale;
+}
+
 }  // namespace oprt

@@ -21,6 +21,8 @@ struct FrameRange {
 FrameRange parse_frames(const std::string& text, const Scene& scene);
 // "WxH"; empty = the scene's own.
 void parse_resolution(const std::string& text, int& width, int& height);
+// "65536", "64K", "64KB", "4M" (K = 1024, M = 1024 K); 0 means no limit. Throws InputError naming `what`.
+std::uint64_t parse_bytes(const std::string& text, const std::string& what);
 
 // The loader's options under a split rule. A BART group is split by count into objects of
 // at most --max-object-triangles: by default 4,096 under `count` (the rule before split by

@@ -31,6 +31,11 @@ Arch resolve_arch(const RenderOptions& o) {
   if (o.subdivide) a.subdivide = *o.subdivide;
   if (!o.split.empty()) a.split = o.split;
   if (o.accel) a.accel = *o.accel;
+  if (o.top) a.top = *o.top;
+  if (o.sram) {
+    a.memory.sram_bytes = parse_bytes(*o.sram, "--sram");
+    check_sram(a, "--sram", *o.sram);
+  }
   if (o.kernel) {
     const auto k = kernel_named(*o.kernel);
     if (!k) throw InputError("--kernel", *o.kernel, "unknown kernel (expected moller or watertight)");

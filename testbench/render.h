@@ -16,7 +16,7 @@ namespace oprt {
 struct RenderOptions {
   std::string scene, arch_file, frames, resolution, out = "out", vcd;
   std::optional<int> ius, subdivide;
-  std::optional<std::string> level, quantum, balance, accel, kernel, precision;
+  std::optional<std::string> level, quantum, balance, accel, top, kernel, precision, sram;
   bool progress = true;  // on a terminal only
   std::string split;     // "": the architecture file's, else the format's default
   std::optional<std::size_t> max_object_triangles;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "hw/arch.h"
+#include "hw/cache.h"
 #include "hw/unit_cycles.h"
 #include "ref/work.h"
 
@@ -25,6 +26,12 @@ struct UnitFrameStats {
   std::uint64_t idle = 0;
   WorkCounts work[kRayKinds];
   std::uint64_t memory_bytes = 0;
+  // Object memory: whether it was a cache (its spheres did not fit memory.sram_bytes), the
+  // bytes its spheres need, and through the cache its line hits, misses, bytes from DRAM;
+  // stall: cycles the unit waited for its object memory, whichever it was.
+  bool cache = false;
+  std::uint64_t assigned_bytes = 0;
+  hw::CacheCounts memory;
 };
 
 struct FrameStats {
@@ -35,6 +42,7 @@ struct FrameStats {
   std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0;
   std::uint64_t memory_load_bytes = 0;  // geometry moved into object memories this frame
   std::uint64_t memory_load_cycles = 0;  // bus cycles of that move, inside the makespan (0 on an ideal bus)
+  std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;  // --top bvh: the GPP's work on the units' trees
   std::uint64_t image_hash = 0;
   std::vector<UnitFrameStats> units;
   std::vector<std::uint64_t> sphere_cycles;  // per sphere: busy cycles spent on it (whichever unit)

@@ -126,15 +126,26 @@ class Testbench : public sc_module {
     run.bus_transfers = engine_->bus().transfers();
     run.memory_load_bytes = g.memory_load_bytes;
     run.memory_load_cycles = g.memory_load_cycles;
+    run.refit_nodes = g.refit_nodes;
+    run.refit_cycles = g.refit_cycles;
+    run.built_nodes = g.built_nodes;
     for (std::size_t u = 0; u < engine_->units(); ++u) {
       const hw::UnitStats& s = engine_->unit(u).stats();
       hw::UnitRun r;
       r.cycles = engine_->functional().unit_cycles[u];
+      const hw::ObjectMemory& m = engine_->memory(u);
+      r.cache = m.is_cache();
+      r.memory = m.cache_counts();
+      // Through a cache the memory stall is the cache's (the trace's is on-chip memory's).
+      if (r.cache) r.cycles.stall = s.cache_stall;
+      else r.memory.stall = r.cycles.stall;
       if (s.charged != r.cycles.busy() + r.cycles.stall)
         SC_REPORT_FATAL("testbench", ("unit " + std::to_string(u) + " waited out other cycles than its work").c_str());
       r.cycles.stall += s.bus_stall;
       r.rays = s.rays[0] + s.rays[1];
-      r.memory_bytes = engine_->memory(u).bytes_read();
+      r.memory_bytes = m.bytes_read();
+      for (int k = 0; k < kRayKinds; ++k) r.node_tests[k] = engine_->functional().unit_node_tests[u][k];
+      r.assigned_bytes = hw::assigned_bytes(geometry_, job_.assignment.unit[u]);
       run.units.push_back(r);
     }
     run.per_sphere = engine_->functional().per_sphere;

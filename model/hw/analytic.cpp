@@ -19,6 +19,28 @@ struct Completion {
 };
 }  // namespace
 
+// Unit u's object memory becomes a cache, empty (ObjectMemory::load_transport).
+template <typename T>
+void AnalyticEngine<T>::cold_cache(std::size_t u) {
+  const auto& c = arch_.memory.cache;
+  caches_[u] = Cache(arch_.memory.sram_bytes, static_cast<std::uint32_t>(c.line_bytes), static_cast<std::uint32_t>(c.ways),
+                     c.replacement, u + 1);
+  windows_[u] = MissWindow(static_cast<std::uint32_t>(c.misses_outstanding));
+}
+
+template <typename T>
+void AnalyticEngine<T>::setup() {
+  loaded_ = assignment_;
+  cached_.assign(assignment_.size(), 0);
+  caches_.resize(assignment_.size());
+  windows_.resize(assignment_.size());
+  for (std::size_t u = 0; u < assignment_.size(); ++u)
+    if (memory_is_cache(arch_, assigned_bytes(geom_, assignment_[u]))) {
+      cold_cache(u);
+      cached_[u] = 1;
+    }
+}
+
 template <typename T>
 FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   const std::size_t units = assignment_.size();
@@ -38,30 +60,70 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
 
   Cycles g = 0;  // the GPP's time
   // Geometry moved by an assignment change, and deforming geometry, is written into object
-  // memory inside the frame (as Gpp::load_memories does); setup() loaded the rest.
+  // memory inside the frame (as Gpp::load_memories does, caches included); setup() loaded
+  // the rest.
   loaded_.resize(units);
+  cached_.resize(units, 0);
+  caches_.resize(units);
+  windows_.resize(units);
+  const GeometryAddresses<T> at(geom_);
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> rewritten;
+  for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s)
+    if (geom_.deforming[s] && arch_.memory.sram_bytes) {
+      rewritten.push_back(at.triangles_of(geom_, s));
+      rewritten.push_back(at.nodes_of(geom_, s));
+    }
+  const auto& cc = arch_.memory.cache;
   for (std::size_t u = 0; u < units; ++u) {
+    out.units[u].assigned_bytes = assigned_bytes(geom_, assignment_[u]);
+    const bool cache = memory_is_cache(arch_, out.units[u].assigned_bytes);
+    out.units[u].cache = cache;
     std::uint64_t bytes = 0;
     for (std::uint32_t s : assignment_[u])
-      if (geom_.deforming[s] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())
+      if (geom_.deforming[s] ||
+          (!cache && (cached_[u] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())))
         bytes += geom_.memory_bytes(s);
-    if (loaded_[u] == assignment_[u] && bytes == 0) continue;
+    if (loaded_[u] == assignment_[u] && cache == static_cast<bool>(cached_[u]) && bytes == 0) continue;
+    if (cache && !cached_[u]) cold_cache(u);
+    if (cache)
+      for (const auto& [first, end] : rewritten)
+        caches_[u].invalidate(first / cc.line_bytes, (end + cc.line_bytes - 1) / cc.line_bytes);
+    cached_[u] = cache ? 1 : 0;
     out.memory_load_bytes += bytes;
     const Cycles before = g;
     g = transfer(g, bytes);
     out.memory_load_cycles += g - before;
     loaded_[u] = assignment_[u];
   }
+  // This frame's time starts at 0: every fill of the last has arrived.
+  for (std::size_t u = 0; u < units; ++u)
+    if (cached_[u]) {
+      caches_[u].settle();
+      windows_[u].clear();
+    }
+  // DRAM channels (dram.h): units_per_channel units each, one line at a time.
+  const std::uint32_t per_channel = static_cast<std::uint32_t>(arch_.memory.dram.units_per_channel);
+  std::vector<Calendar<Cycles>> channels(units / per_channel + 1);
+  const Cycles line_transfer = (static_cast<Cycles>(cc.line_bytes) + arch_.memory.dram.bytes_per_cycle - 1) /
+                               static_cast<Cycles>(arch_.memory.dram.bytes_per_cycle);
+  const bool fill_over_bus = arch_.memory.dram.path == DramPath::bus;
 
   const FrameSetup<T> setup = setup_frame(scene_, geom_, cmd.frame, cmd.to_world, cmd.camera);
   std::vector<IuRegisters<T>> regs(units);
+  trees_.resize(arch_.top_tree() ? units : 0);
   for (std::size_t u = 0; u < units; ++u) {
     regs[u].load(setup, geom_, assignment_[u]);
-    g = transfer(g, assignment_[u].size() * Bytes<T>::sphere_config);
+    if (arch_.top_tree()) out.refit_nodes += load_top(regs[u], trees_[u], assignment_[u], setup, geom_, &out.built_nodes);
   }
+  out.refit_cycles = out.refit_nodes * static_cast<std::uint64_t>(arch_.gpp.cycles_per_node);
+  g += out.refit_cycles;  // the GPP refits the trees before it writes the registers (Gpp::render_frame)
+  for (std::size_t u = 0; u < units; ++u)
+    g = transfer(g, assignment_[u].size() * Bytes<T>::sphere_config + regs[u].top.size() * Bytes<T>::top_node);
   const CameraRays camera(cmd.camera, cmd.width, cmd.height);
   const Shader<T> shader(scene_, setup);
-  trace_functional(frame_, geom_, regs, camera, shader, arch_, cmd.width, cmd.height, false);
+  // Caches time each visit: they need the records' detail.
+  const bool caches = std::find(cached_.begin(), cached_.end(), 1) != cached_.end();
+  trace_functional(frame_, geom_, regs, camera, shader, arch_, cmd.width, cmd.height, caches);
   const FunctionalFrame<T>& f = frame_;
 
   const std::size_t pixels = static_cast<std::size_t>(cmd.width) * cmd.height;
@@ -72,6 +134,33 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   std::deque<std::uint32_t> shadow_queue;
   const unsigned depth = static_cast<unsigned>(arch_.fifo_depth);
 
+  // A ray through unit u's cache, visit by visit (IntersectionUnit::trace_through_cache);
+  // returns when it ends. The cache's stall is counted in out.units[u].memory.
+  VisitStream stream;
+  auto entered = [](const UnitTrace<T>& ut, const UnitRayWork* w) {
+    return ut.visit_first[ut.index(w) + 1] > ut.visit_first[ut.index(w)];
+  };
+  auto through_cache = [&](std::uint32_t u, const RayRecord<T>& r, const UnitRayWork& w, Cycles t) {
+    auto fetch = [&](std::uint64_t, Cycles q) -> Cycles {
+      if (fill_over_bus) q = transfer(q, static_cast<std::uint64_t>(cc.line_bytes));
+      return channels[u / per_channel].reserve(q, line_transfer) + static_cast<Cycles>(arch_.memory.dram.latency_cycles);
+    };
+    const UnitTrace<T>& ut = f.units[u];
+    const std::uint32_t i = ut.index(&w);
+    std::uint32_t spheres = 0, nodes = 0;
+    for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
+      const VisitWork& v = ut.visits[k];
+      t += std::uint64_t{v.nodes_before} * f.node_cost + std::uint64_t{v.spheres_before} * f.sphere_cost;
+      nodes += v.nodes_before;
+      spheres += v.spheres_before;
+      const WorkCounts again = visit_stream(geom_, regs[u], r.ray, r.kind, v.entry, at, stream);
+      t = time_visit(visit_costs(arch_, again), stream, t, caches_[u], windows_[u], out.units[u].memory, fetch,
+                     [](int, std::uint64_t) {});
+    }
+    return t + std::uint64_t{ut.node_tests[i] - nodes} * f.node_cost +
+           std::uint64_t{ut.sphere_tests[i] - spheres} * f.sphere_cost;
+  };
+
   // Issue ray `id`: the GPP generates and writes it; every unit takes it in FIFO order.
   auto issue = [&](std::uint32_t id) {
     g += arch_.gpp.cycles_per_ray;
@@ -80,7 +169,8 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     // Every later request is at or after g (the GPP's time never decreases, and a unit
     // answers after the ray arrived): grants that ended by then can no longer matter.
     bus.forget_before(g);
-    g = transfer(g, Bytes<T>::ray);
+    for (Calendar<Cycles>& c : channels) c.forget_before(g);
+    g = transfer(g, Bytes<T>::ray_bytes(arch_.top_tree()));
     const Cycles avail = g;
     const RayKind kind = f.rays[id].kind;
     ++out.rays[static_cast<int>(kind)];
@@ -89,7 +179,9 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     for (std::uint32_t u = 0; u < units; ++u) {
       UnitRun& ur = out.units[u];
       const Cycles start = std::max(unit_free[u], avail);
-      const Cycles end = start + f.cycles(f.find(id, u), u);
+      const UnitRayWork* w = f.find(id, u);
+      const Cycles end = cached_[u] && w && entered(f.units[u], w) ? through_cache(u, f.rays[id], *w, start)
+                                                                  : start + f.cycles(w, u);
       const Cycles done = transfer(end, answer);
       ur.cycles.stall += done - end;  // the bus; busy cycles are the trace's (below)
       ++ur.rays;
@@ -132,14 +224,17 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   for (std::size_t u = 0; u < units; ++u) {
     const std::uint64_t bus_stall = out.units[u].cycles.stall;
     out.units[u].cycles = f.unit_cycles[u];
+    if (out.units[u].cache) out.units[u].cycles.stall = out.units[u].memory.stall;  // the cache's, not on-chip memory's
+    else out.units[u].memory.stall = f.unit_cycles[u].stall;
     out.units[u].cycles.stall += bus_stall;
-  }
-  for (std::size_t u = 0; u < units; ++u)
-    for (int k = 0; k < kRayKinds; ++k)
+    for (int k = 0; k < kRayKinds; ++k) {
+      out.units[u].node_tests[k] = f.unit_node_tests[u][k];
       for (std::uint32_t s : assignment_[u]) {
         const WorkCounts& w = f.per_sphere[k][s];
         out.units[u].memory_bytes += w.tri_tests() * Bytes<T>::triangle(arch_.kernel) + w.box_tests * Bytes<T>::node;
       }
+    }
+  }
   return out;
 }
 

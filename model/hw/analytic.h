@@ -19,6 +19,7 @@
 #include "hw/functional_frame.h"
 #include "hw/payloads.h"
 #include "hw/unit_cycles.h"
+#include "hw/visit_stream.h"
 #include "scene/scene.h"
 
 #include <vector>
@@ -30,6 +31,10 @@ struct UnitRun {
   UnitCycles cycles;
   std::uint64_t rays = 0;
   std::uint64_t memory_bytes = 0;
+  std::uint64_t node_tests[kRayKinds] = {};  // --top bvh
+  bool cache = false;  // its spheres did not fit its object memory (memory.sram_bytes)
+  std::uint64_t assigned_bytes = 0;
+  CacheCounts memory;  // through the cache; stall: the memory's, whichever it is
 };
 
 struct FrameRun {
@@ -37,6 +42,7 @@ struct FrameRun {
   std::uint64_t rays[kRayKinds] = {};
   std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0, memory_load_bytes = 0;
   std::uint64_t memory_load_cycles = 0;  // bus time of the geometry moved in (0 on an ideal bus)
+  std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;  // --top bvh: the GPP's refit (gpp.h)
   std::vector<UnitRun> units;
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere], whichever unit did it
 };
@@ -47,8 +53,9 @@ class AnalyticEngine {
   AnalyticEngine(const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch)
       : scene_(scene), geom_(geometry), arch_(arch) {}
   void assign(const Assignment& a) { assignment_ = a.unit; }
-  // Before the animation: object memories hold their units' geometry (no time, no stats).
-  void setup() { loaded_ = assignment_; }
+  // Before the animation: object memories hold their units' geometry, or are caches in
+  // front of DRAM where it does not fit (no time, no stats).
+  void setup();
   // Renders cmd.image and returns the frame's timing.
   FrameRun run_frame(const FrameCommand& cmd);
 
@@ -57,6 +64,12 @@ class AnalyticEngine {
   const SceneGeometry<T>& geom_;
   const Arch& arch_;
   std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
+  std::vector<TopTree> trees_;  // --top bvh: per unit
+  // Object memories that are caches (memory.sram_bytes), kept from frame to frame.
+  std::vector<char> cached_;
+  std::vector<Cache> caches_;
+  std::vector<MissWindow> windows_;
+  void cold_cache(std::size_t u);
   FunctionalFrame<T> frame_;
 };
 

@@ -14,6 +14,10 @@ const char* to_string(LtArbitration b) {
   return b == LtArbitration::sync ? "sync" : b == LtArbitration::calendar ? "calendar" : "busy_until";
 }
 const char* to_string(MemoryModel m) { return m == MemoryModel::ideal ? "ideal" : "latency"; }
+const char* to_string(CacheReplacement r) {
+  return r == CacheReplacement::lru ? "lru" : r == CacheReplacement::fifo ? "fifo" : "random";
+}
+const char* to_string(DramPath p) { return p == DramPath::channel ? "channel" : "bus"; }
 
 double parse_time_ns(const std::string& text, const std::string& what) {
   const char* s = text.c_str();
@@ -72,10 +76,18 @@ nlohmann::json stage_costs_json(const KernelCosts& c) {
 }
 }  // namespace
 
+void check_sram(const Arch& a, const std::string& file, const std::string& place) {
+  const std::uint64_t set = std::uint64_t(a.memory.cache.line_bytes) * a.memory.cache.ways;
+  if (a.memory.sram_bytes != 0 && a.memory.sram_bytes < set)
+    throw InputError(file, place,
+                     "an object memory smaller than one cache set (line_bytes x ways = " + std::to_string(set) +
+                         " bytes) cannot be a cache");
+}
+
 Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   const JsonIn root(doc, file);
   root.only_keys({"format", "comment", "clock_mhz", "ius", "costs", "ray_fifo_depth", "bus", "memory", "gpp",
-                  "level", "quantum", "balance", "subdivide", "split_rule", "split", "accel", "kernel", "precision",
+                  "level", "quantum", "balance", "subdivide", "split_rule", "split", "accel", "top", "kernel", "precision",
                   "sync_every_ray"});
   const std::string format = root.at("format").string();
   if (format != "oprt-arch/1") root.at("format").fail("unsupported format \"" + format + "\" (expected oprt-arch/1)");
@@ -84,8 +96,9 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   a.clock_mhz = root.number_or("clock_mhz", a.clock_mhz, 1e-3, 1e6);
   a.ius = static_cast<int>(root.integer_or("ius", a.ius, 1, 65536));
   if (auto c = root.find("costs")) {
-    c->only_keys({"sphere", "transform", "triangle", "watertight", "box", "box_setup"});
+    c->only_keys({"sphere", "transform", "triangle", "watertight", "box", "box_setup", "node"});
     if (auto v = c->find("sphere")) a.costs.sphere = cycles(*v);
+    if (auto v = c->find("node")) a.costs.node = cycles(*v);
     if (auto v = c->find("box")) a.costs.box = cycles(*v);
     if (auto v = c->find("box_setup")) a.costs.box_setup = cycles(*v);
     read_kernel_costs(*c, Kernel::moller, a.costs.moller);
@@ -105,15 +118,43 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
           *v, {{"sync", LtArbitration::sync}, {"calendar", LtArbitration::calendar}, {"busy_until", LtArbitration::busy_until}});
   }
   if (auto m = root.find("memory")) {
-    m->only_keys({"model", "latency_cycles", "bytes_per_cycle"});
-    a.memory.model = choose<MemoryModel>(m->at("model"), {{"ideal", MemoryModel::ideal}, {"latency", MemoryModel::latency}});
+    m->only_keys({"model", "latency_cycles", "bytes_per_cycle", "sram_bytes", "cache", "dram"});
+    if (auto v = m->find("model"))
+      a.memory.model = choose<MemoryModel>(*v, {{"ideal", MemoryModel::ideal}, {"latency", MemoryModel::latency}});
     a.memory.latency_cycles = static_cast<int>(m->integer_or("latency_cycles", a.memory.latency_cycles, 0, 1 << 20));
     a.memory.bytes_per_cycle = static_cast<int>(m->integer_or("bytes_per_cycle", a.memory.bytes_per_cycle, 1, 1 << 20));
+    a.memory.sram_bytes = static_cast<std::uint64_t>(m->integer_or("sram_bytes", 0, 0, 1LL << 40));
+    if (auto c = m->find("cache")) {
+      c->only_keys({"line_bytes", "ways", "replacement", "misses_outstanding"});
+      if (auto v = c->find("line_bytes")) {
+        const auto n = v->integer(16, 1 << 16);
+        if (n & (n - 1)) v->fail("expected a power of two");
+        a.memory.cache.line_bytes = static_cast<int>(n);
+      }
+      a.memory.cache.ways = static_cast<int>(c->integer_or("ways", a.memory.cache.ways, 1, 1024));
+      if (auto v = c->find("replacement"))
+        a.memory.cache.replacement = choose<CacheReplacement>(
+            *v, {{"lru", CacheReplacement::lru}, {"fifo", CacheReplacement::fifo}, {"random", CacheReplacement::random}});
+      a.memory.cache.misses_outstanding =
+          static_cast<int>(c->integer_or("misses_outstanding", a.memory.cache.misses_outstanding, 1, 1024));
+    }
+    if (auto d = m->find("dram")) {
+      d->only_keys({"latency_cycles", "bytes_per_cycle", "units_per_channel", "path"});
+      a.memory.dram.latency_cycles = static_cast<int>(d->integer_or("latency_cycles", a.memory.dram.latency_cycles, 0, 1 << 20));
+      a.memory.dram.bytes_per_cycle =
+          static_cast<int>(d->integer_or("bytes_per_cycle", a.memory.dram.bytes_per_cycle, 1, 1 << 20));
+      a.memory.dram.units_per_channel =
+          static_cast<int>(d->integer_or("units_per_channel", a.memory.dram.units_per_channel, 1, 65536));
+      if (auto v = d->find("path"))
+        a.memory.dram.path = choose<DramPath>(*v, {{"channel", DramPath::channel}, {"bus", DramPath::bus}});
+    }
+    check_sram(a, file, "/memory/sram_bytes");
   }
   if (auto g = root.find("gpp")) {
-    g->only_keys({"cycles_per_ray", "cycles_per_hit"});
+    g->only_keys({"cycles_per_ray", "cycles_per_hit", "cycles_per_node"});
     a.gpp.cycles_per_ray = static_cast<int>(g->integer_or("cycles_per_ray", 0, 0, 1 << 20));
     a.gpp.cycles_per_hit = static_cast<int>(g->integer_or("cycles_per_hit", 0, 0, 1 << 20));
+    a.gpp.cycles_per_node = static_cast<int>(g->integer_or("cycles_per_node", a.gpp.cycles_per_node, 0, 1 << 20));
   }
   if (auto v = root.find("level"))
     a.level = choose<Level>(*v, {{"at", Level::at}, {"lt", Level::lt}, {"analytic", Level::analytic}});
@@ -123,6 +164,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   if (auto v = root.find("split_rule")) a.split_rule = one_of(*v, {"balanced", "median"});
   if (auto v = root.find("split")) a.split = one_of(*v, {"count", "extent"});
   if (auto v = root.find("accel")) a.accel = one_of(*v, {"brute", "bvh"});
+  if (auto v = root.find("top")) a.top = one_of(*v, {"flat", "bvh"});
   if (auto v = root.find("kernel")) a.kernel = *kernel_named(one_of(*v, {"moller", "watertight"}));
   if (auto v = root.find("precision")) a.precision = one_of(*v, {"float", "double"});
   a.sync_every_ray = root.boolean_or("sync_every_ray", a.sync_every_ray);
@@ -139,13 +181,21 @@ nlohmann::json to_json(const Arch& a) {
                      {"triangle", stage_costs_json(a.costs.moller)},
                      {"watertight", {{"transform", a.costs.watertight.transform},
                                      {"triangle", stage_costs_json(a.costs.watertight)}}},
-                     {"box", a.costs.box}, {"box_setup", a.costs.box_setup}}},
+                     {"box", a.costs.box}, {"box_setup", a.costs.box_setup}, {"node", a.costs.node}}},
           {"ray_fifo_depth", a.fifo_depth},
           {"bus", {{"model", to_string(a.bus.model)}, {"bytes_per_cycle", a.bus.bytes_per_cycle},
                    {"arbitration_cycles", a.bus.arbitration_cycles}, {"lt_arbitration", to_string(a.bus.lt_arbitration)}}},
           {"memory", {{"model", to_string(a.memory.model)}, {"latency_cycles", a.memory.latency_cycles},
-                      {"bytes_per_cycle", a.memory.bytes_per_cycle}}},
-          {"gpp", {{"cycles_per_ray", a.gpp.cycles_per_ray}, {"cycles_per_hit", a.gpp.cycles_per_hit}}},
+                      {"bytes_per_cycle", a.memory.bytes_per_cycle}, {"sram_bytes", a.memory.sram_bytes},
+                      {"cache", {{"line_bytes", a.memory.cache.line_bytes}, {"ways", a.memory.cache.ways},
+                                 {"replacement", to_string(a.memory.cache.replacement)},
+                                 {"misses_outstanding", a.memory.cache.misses_outstanding}}},
+                      {"dram", {{"latency_cycles", a.memory.dram.latency_cycles},
+                                {"bytes_per_cycle", a.memory.dram.bytes_per_cycle},
+                                {"units_per_channel", a.memory.dram.units_per_channel},
+                                {"path", to_string(a.memory.dram.path)}}}}},
+          {"gpp", {{"cycles_per_ray", a.gpp.cycles_per_ray}, {"cycles_per_hit", a.gpp.cycles_per_hit},
+                   {"cycles_per_node", a.gpp.cycles_per_node}}},
           {"level", to_string(a.level)},
           {"quantum_ns", a.quantum_ns},
           {"balance", a.balance},
@@ -153,6 +203,7 @@ nlohmann::json to_json(const Arch& a) {
           {"split_rule", a.split_rule},
           {"split", a.split},
           {"accel", a.accel},
+          {"top", a.top},
           {"kernel", to_string(a.kernel)},
           {"precision", a.precision},
           {"sync_every_ray", a.sync_every_ray}};

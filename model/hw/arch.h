@@ -22,6 +22,9 @@ enum class BusModel { ideal, shared };
 // All three are the same arbitration at `at`.
 enum class LtArbitration { sync, calendar, busy_until };
 enum class MemoryModel { ideal, latency };
+enum class CacheReplacement { lru, fifo, random };
+// Where a unit's cache misses go: its DRAM channel directly, or over the shared bus to it.
+enum class DramPath { channel, bus };
 enum class Level { at, lt, analytic };
 
 struct Arch {
@@ -37,13 +40,29 @@ struct Arch {
     LtArbitration lt_arbitration = LtArbitration::sync;
   } bus;
   struct {
-    MemoryModel model = MemoryModel::ideal;
+    MemoryModel model = MemoryModel::ideal;  // the on-chip object memory
     int latency_cycles = 10;
     int bytes_per_cycle = 16;
+    // Capacity per unit; 0 = whatever its assignment needs. A unit whose spheres need more
+    // uses it as a cache in front of DRAM (hw/cache.h).
+    std::uint64_t sram_bytes = 0;
+    struct {
+      int line_bytes = 64;
+      int ways = 4;
+      CacheReplacement replacement = CacheReplacement::lru;
+      int misses_outstanding = 4;  // per unit
+    } cache;
+    struct {
+      int latency_cycles = 40;     // from the request to the line's first byte
+      int bytes_per_cycle = 16;    // per channel
+      int units_per_channel = 4;   // units 0..k-1 share channel 0, and so on
+      DramPath path = DramPath::channel;
+    } dram;
   } memory;
   struct {
     int cycles_per_ray = 0;  // generating a ray (primary or shadow)
     int cycles_per_hit = 0;  // shading a primary ray's result
+    int cycles_per_node = 20;  // --top bvh: refitting one node of a unit's tree, every frame
   } gpp;
 
   // Run options.
@@ -56,6 +75,7 @@ struct Arch {
   // format's default, resolved when the scene is known (render records the resolved rule).
   std::string split;
   std::string accel = "brute";
+  std::string top = "flat";  // what a unit walks over its spheres: "flat" (every one) or "bvh" (ref/top_tree.h)
   Kernel kernel = Kernel::moller;
   std::string precision = "float";
   // Simulation only: make every unit wait out each ray in simulation time even where
@@ -66,12 +86,16 @@ struct Arch {
   double cycle_ns() const { return 1000.0 / clock_mhz; }
   // The costs of the kernel this run uses.
   const KernelCosts& kernel_costs() const { return costs.of(kernel); }
+  bool top_tree() const { return top == "bvh"; }
 };
 
 // Throws InputError (file, JSON path, problem) on any unknown key or impossible value.
 Arch load_arch(const std::string& path);
 Arch arch_from_json(const nlohmann::json& doc, const std::string& file);
 nlohmann::json to_json(const Arch& a);
+
+// Throws InputError(file, place) if a limited object memory cannot hold one cache set.
+void check_sram(const Arch& a, const std::string& file, const std::string& place);
 
 // "10 ns", "1us", "100 us", "2.5 ms" -> nanoseconds. Throws InputError naming `what`.
 double parse_time_ns(const std::string& text, const std::string& what);
@@ -80,5 +104,7 @@ const char* to_string(Level l);
 const char* to_string(BusModel b);
 const char* to_string(LtArbitration b);
 const char* to_string(MemoryModel m);
+const char* to_string(CacheReplacement r);
+const char* to_string(DramPath p);
 
 }  // namespace oprt

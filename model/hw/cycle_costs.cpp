@@ -21,6 +21,7 @@ CycleCosts scheduled_costs() {
   c.watertight = kernel_costs(transform_watertight_graph(), watertight_graph());
   c.box_setup = static_cast<std::uint32_t>(list_schedule(box_setup_graph()).length());
   c.box = static_cast<std::uint32_t>(list_schedule(box_graph()).length());
+  c.node = static_cast<std::uint32_t>(list_schedule(top_node_graph()).length());
   return c;
 }
 

@@ -52,5 +52,6 @@ const OpGraph& transform_watertight_graph();  // the transform plus the ray's do
 const OpGraph& watertight_graph();       // geom/watertight.h, exit stages uv, w, det, t
 const OpGraph& box_setup_graph();        // --accel bvh: reciprocal direction (geom/bvh.h)
 const OpGraph& box_graph();              // --accel bvh: ray-box test (geom/bvh.h)
+const OpGraph& top_node_graph();         // --top bvh: node of a unit's tree over its spheres (ref/top_tree.h)
 
 }  // namespace oprt

@@ -13,6 +13,8 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
   const bool decoupled = arch.level == Level::lt;
   gpp_ = std::make_unique<Gpp<T>>("gpp", scene, geometry, arch, frame_, vcd);
   bus_ = std::make_unique<Bus>("bus", arch, decoupled, vcd);
+  dram_ = std::make_unique<Dram>("dram", arch, units);
+  const bool fill_over_bus = arch.memory.dram.path == DramPath::bus;
   host.bind(gpp_->host);
   gpp_->bus.bind(bus_->in);
   bus_->out.bind(gpp_->hits);
@@ -21,11 +23,15 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
   for (std::size_t i = 0; i < units; ++i) {
     const std::string n = std::to_string(i);
     fifos_.push_back(std::make_unique<RayFifo>(("fifo" + n).c_str(), arch.fifo_depth, vcd));
-    memories_.push_back(std::make_unique<ObjectMemory>(("memory" + n).c_str(), arch, geometry.sphere_count()));
-    units_.push_back(std::make_unique<IntersectionUnit<T>>(("iu" + n).c_str(), static_cast<int>(i), arch, frame_, vcd));
+    memories_.push_back(
+        std::make_unique<ObjectMemory>(("memory" + n).c_str(), static_cast<int>(i), arch, geometry.sphere_count(), vcd));
+    units_.push_back(
+        std::make_unique<IntersectionUnit<T>>(("iu" + n).c_str(), static_cast<int>(i), arch, geometry, frame_, vcd));
     IntersectionUnit<T>& u = *units_.back();
     u.bus.bind(bus_->in);
     u.mem.bind(memories_.back()->read);
+    if (fill_over_bus) memories_.back()->fill.bind(bus_->in);
+    else memories_.back()->fill.bind(dram_->in);
     u.fifo.bind(*fifos_.back());
     gpp_->fifos.bind(*fifos_.back());
     bus_->out.bind(u.cfg);
@@ -39,6 +45,10 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
     every_fifo.push_back(base + 2);
   }
   bus_->map(addr::broadcast_rays, addr::region_size, every_fifo);
+  if (fill_over_bus) {
+    bus_->out.bind(dram_->in);
+    bus_->map(addr::dram, addr::region_size, {1 + 3 * static_cast<int>(units)});
+  }
 }
 
 template <typename T>

@@ -9,10 +9,13 @@
 //   Bus.out[2 + 3i] --> ObjectMemory[i].load
 //   Bus.out[3 + 3i] --> RayFifo[i].in              (and the broadcast region: every RayFifo)
 //   IntersectionUnit[i].mem --> ObjectMemory[i].read;  IntersectionUnit[i].fifo --> RayFifo[i]
+//   ObjectMemory[i].fill --> Dram.in               (memory.dram.path "channel"), or
+//   ObjectMemory[i].fill --> Bus.in; Bus.out[1 + 3 units] --> Dram.in   ("bus")
 #pragma once
 
 #include "balance/assign.h"
 #include "hw/bus.h"
+#include "hw/dram.h"
 #include "hw/gpp.h"
 #include "hw/intersection_unit.h"
 #include "hw/object_memory.h"
@@ -47,12 +50,14 @@ class Engine : public sc_core::sc_module {
   IntersectionUnit<T>& unit(std::size_t i) { return *units_[i]; }
   RayFifo& fifo(std::size_t i) { return *fifos_[i]; }
   ObjectMemory& memory(std::size_t i) { return *memories_[i]; }
+  Dram& dram() { return *dram_; }
   const FunctionalFrame<T>& functional() const { return frame_; }
 
  private:
   FunctionalFrame<T> frame_;  // the frame's traced work: written by the GPP, read by the units
   std::unique_ptr<Gpp<T>> gpp_;
   std::unique_ptr<Bus> bus_;
+  std::unique_ptr<Dram> dram_;
   std::vector<std::unique_ptr<IntersectionUnit<T>>> units_;
   std::vector<std::unique_ptr<RayFifo>> fifos_;
   std::vector<std::unique_ptr<ObjectMemory>> memories_;

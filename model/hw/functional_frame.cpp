@@ -18,7 +18,7 @@ struct ChunkRecord {
   UnitRayWork work;  // work.ray and work.answer: local to the chunk
 };
 struct ChunkDetail {
-  std::uint32_t sphere_tests, first_visit, visits;
+  std::uint32_t sphere_tests, node_tests, first_visit, visits;
 };
 
 // What one chunk of pixels produced, in ray order.
@@ -39,6 +39,7 @@ struct Chunk {
 struct Totals {
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;
   std::vector<UnitCycles> units;
+  std::vector<std::array<std::uint64_t, kRayKinds>> node_tests;  // per unit
 };
 
 template <typename T>
@@ -58,24 +59,35 @@ class Recorder {
     ++c_.pixel_rays.back();
   }
   void begin_unit(std::uint32_t) {
-    sphere_tests_ = visits_ = 0;
+    sphere_tests_ = visits_ = node_tests_ = 0;
+    spheres_before_ = nodes_before_ = 0;
     bytes_ = 0;
     first_visit_ = static_cast<std::uint32_t>(c_.visits.size());
     entered_ = UnitCycles{};
   }
   void visit(const SphereVisit& v) {
+    node_tests_ += v.nodes_before;
+    nodes_before_ += v.nodes_before;
+    if (v.sphere == kNone) return;  // node tests after the last sphere (top_traverse.h)
     t_.per_sphere[kind_][v.sphere] += v.work;
     ++sphere_tests_;
+    ++spheres_before_;
     if (!v.work.transforms) return;
     UnitCycles vc = visit_cycles<T>(v, arch_);
     vc.sphere = 0;  // counted for every visit in sphere_tests_
     entered_ += vc;
     ++visits_;
     bytes_ += v.work.tri_tests() * triangle_bytes_ + v.work.box_tests * node_bytes_;
-    if (!detail_) return;
+    if (!detail_) {
+      spheres_before_ = nodes_before_ = 0;
+      return;
+    }
     VisitWork w;
     w.entry = v.entry;
     w.sphere = v.sphere;
+    w.spheres_before = spheres_before_;
+    w.nodes_before = nodes_before_;
+    spheres_before_ = nodes_before_ = 0;
     w.box = static_cast<std::uint32_t>(vc.box);
     w.primitive = static_cast<std::uint32_t>(vc.primitive);
     w.stall = static_cast<std::uint32_t>(vc.stall);
@@ -86,10 +98,15 @@ class Recorder {
   void end_unit(std::uint32_t u, const UnitAnswer<T>& a) {
     UnitCycles& total = t_.units[u];
     const std::uint64_t spheres = std::uint64_t{sphere_tests_} * arch_.costs.sphere;
+    const std::uint64_t nodes = std::uint64_t{node_tests_} * arch_.costs.node;
     total.sphere += spheres;
-    if (!visits_) return;  // every sphere missed: no record (FunctionalFrame::cycles)
+    total.node += nodes;
+    t_.node_tests[u][kind_] += node_tests_;
+    // Every sphere missed (flat: all tested; with a tree: only its root tested, and missed):
+    // no record (FunctionalFrame::cycles).
+    if (!visits_ && (node_tests_ == 0 || (node_tests_ == 1 && sphere_tests_ == 0))) return;
     total += entered_;
-    const std::uint64_t cycles = spheres + entered_.busy() + entered_.stall;
+    const std::uint64_t cycles = spheres + nodes + entered_.busy() + entered_.stall;
     if (cycles > kNone || bytes_ > kNone)
       throw std::runtime_error("one unit's work on one ray exceeds 2^32 cycles or bytes (" + std::to_string(cycles) +
                                " cycles): split the objects into more spheres (--subdivide) or use --accel bvh");
@@ -107,7 +124,7 @@ class Recorder {
     c_.records.push_back({u, w});
     ++c_.records_of[u];
     if (!detail_) return;
-    c_.details.push_back({sphere_tests_, first_visit_, visits_});
+    c_.details.push_back({sphere_tests_, node_tests_, first_visit_, visits_});
     c_.visits_of[u] += visits_;
   }
   void end_ray() {}
@@ -119,7 +136,8 @@ class Recorder {
   const bool detail_;
   const std::uint32_t node_bytes_, triangle_bytes_;
   int kind_ = 0;
-  std::uint32_t sphere_tests_ = 0, visits_ = 0, first_visit_ = 0;
+  std::uint32_t sphere_tests_ = 0, visits_ = 0, first_visit_ = 0, node_tests_ = 0;
+  std::uint32_t spheres_before_ = 0, nodes_before_ = 0;  // tests since the last entered sphere
   std::uint64_t bytes_ = 0;
   UnitCycles entered_;  // the visits that entered a sphere
 };
@@ -136,8 +154,13 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
   out.image = FrameImage(width, height);
   out.detailed = detail;
   out.sphere_cost = arch.costs.sphere;
+  out.node_cost = arch.costs.node;
   out.unit_entries.clear();
-  for (const IuRegisters<T>& r : units) out.unit_entries.push_back(static_cast<std::uint32_t>(r.size()));
+  out.unit_top.clear();
+  for (const IuRegisters<T>& r : units) {
+    out.unit_entries.push_back(static_cast<std::uint32_t>(r.size()));
+    out.unit_top.push_back(r.top.empty() ? 0 : 1);
+  }
 
   const FrameTraceInputs<T> in{g, units, camera, shader, arch.memory.model == MemoryModel::latency};
   std::vector<Chunk<T>> chunks(chunk_count(pixels, kPixelsPerChunk));
@@ -149,6 +172,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
     Local l;
     for (auto& k : l.totals.per_sphere) k.assign(spheres, WorkCounts{});
     l.totals.units.assign(n_units, UnitCycles{});
+    l.totals.node_tests.assign(n_units, {});
     return l;
   });
   parallel_chunks(pixels, kPixelsPerChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
@@ -161,10 +185,14 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
 
   for (auto& k : out.per_sphere) k.assign(spheres, WorkCounts{});
   out.unit_cycles.assign(n_units, UnitCycles{});
+  out.unit_node_tests.assign(n_units, {});
   for (const Local& l : locals) {
     for (int k = 0; k < kRayKinds; ++k)
       for (std::size_t s = 0; s < spheres; ++s) out.per_sphere[k][s] += l.totals.per_sphere[k][s];
-    for (std::size_t u = 0; u < n_units; ++u) out.unit_cycles[u] += l.totals.units[u];
+    for (std::size_t u = 0; u < n_units; ++u) {
+      out.unit_cycles[u] += l.totals.units[u];
+      for (int k = 0; k < kRayKinds; ++k) out.unit_node_tests[u][k] += l.totals.node_tests[u][k];
+    }
   }
 
   // Assemble: rays in pixel order; each unit's records, visits and hits in ray order, with
@@ -187,6 +215,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
     out.units[u].work.resize(r);
     out.units[u].hits.resize(h);
     out.units[u].sphere_tests.resize(detail ? r : 0);
+    out.units[u].node_tests.resize(detail ? r : 0);
     out.units[u].visit_first.resize(detail ? r + 1 : 0);
     out.units[u].visits.resize(v);
     if (detail) out.units[u].visit_first[r] = v;
@@ -223,6 +252,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
       if (!detail) continue;
       const ChunkDetail& d = k.details[j];
       ut.sphere_tests[i] = d.sphere_tests;
+      ut.node_tests[i] = d.node_tests;
       ut.visit_first[i] = next_visit[cr.unit];
       std::copy(k.visits.begin() + d.first_visit, k.visits.begin() + d.first_visit + d.visits,
                 ut.visits.begin() + next_visit[cr.unit]);

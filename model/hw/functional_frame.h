@@ -6,10 +6,11 @@
 // against this record. Plain C++, no SystemC.
 //
 // Storage is sparse and small, because it holds a whole frame: a unit whose ray enters none
-// of its spheres, the common case, has no record (it tested every sphere in its registers
-// and answered "miss" / "not occluded"); a record is 16 bytes. The per-sphere detail of a
-// record (which spheres, what each cost) is kept only when something needs it: the
-// waveform, which shows each phase.
+// of its spheres, the common case, has no record (it tested every sphere in its registers,
+// or with a tree over its spheres only the root, and answered "miss" / "not occluded"); a
+// record is 16 bytes. The per-sphere detail of a record (which spheres, what each cost) is
+// kept only when something needs it: the waveform, which shows each phase, and object
+// memories that are caches, which time each visit (visit_stream.h).
 #pragma once
 
 #include "hw/arch.h"
@@ -36,6 +37,7 @@ constexpr std::uint32_t kOccluded = kNone - 1;
 struct VisitWork {
   std::uint32_t entry = 0;   // position in the unit's registers
   std::uint32_t sphere = 0;  // global sphere id
+  std::uint32_t spheres_before = 0, nodes_before = 0;  // tests since the previous entered sphere, this one's included
   std::uint32_t box = 0, primitive = 0, stall = 0;  // cycles (the transform is the kernel's cost)
   std::uint32_t tri_tests = 0, box_tests = 0;       // what it streamed from object memory
 };
@@ -49,9 +51,10 @@ struct UnitTrace {
   std::vector<HitRecord<T>> hits;
   std::vector<std::uint64_t> has;   // bit r % 64 of word r / 64: ray r has a record
   std::vector<std::uint32_t> rank;  // per word: records of the rays before it
-  // Detail, per record: register entries tested (a shadow ray stops at its first occluder)
-  // and its entered spheres, visits[visit_first[i], visit_first[i + 1]).
-  std::vector<std::uint32_t> sphere_tests, visit_first;
+  // Detail, per record: register entries tested (a shadow ray stops at its first occluder),
+  // nodes of the unit's tree tested (--top bvh) and its entered spheres, visits[visit_first[i],
+  // visit_first[i + 1]).
+  std::vector<std::uint32_t> sphere_tests, node_tests, visit_first;
   std::vector<VisitWork> visits;
 
   const UnitRayWork* find(std::uint32_t r) const {
@@ -75,14 +78,18 @@ struct FunctionalFrame {
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere]
   std::vector<UnitCycles> unit_cycles;    // per unit, busy and memory stall (no bus time)
   std::vector<std::uint32_t> unit_entries;  // per unit: spheres in its registers this frame
+  std::vector<char> unit_top;             // per unit: it walks a tree over its spheres (--top bvh)
+  std::vector<std::array<std::uint64_t, kRayKinds>> unit_node_tests;  // per unit and ray kind
   std::uint32_t sphere_cost = 0;          // cycles per sphere test
+  std::uint32_t node_cost = 0;            // cycles per node test (--top bvh)
 
   std::uint32_t ray_count() const { return static_cast<std::uint32_t>(rays.size()); }
   // Unit u's record for ray r, or null if the ray entered none of its spheres.
   const UnitRayWork* find(std::uint32_t r, std::uint32_t u) const { return units[u].find(r); }
   // Cycles unit u spends on a ray (busy and memory stall), with its record or without.
   std::uint64_t cycles(const UnitRayWork* w, std::uint32_t u) const {
-    return w ? w->cycles : std::uint64_t{unit_entries[u]} * sphere_cost;
+    if (w) return w->cycles;
+    return unit_top[u] ? node_cost : std::uint64_t{unit_entries[u]} * sphere_cost;  // with a tree: the root, missed
   }
   // Unit u's answer to ray r.
   UnitAnswer<T> answer(const UnitRayWork* w, std::uint32_t u) const {
@@ -102,10 +109,11 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& geometry,
                       const Arch& arch, int width, int height, bool detail);
 
 // Calls phase(state, cycles) for each phase of unit u's work on a ray in time order, as the
-// unit performs it: sphere tests, and for each entered sphere its transform, box tests,
-// triangle tests and memory stall. Consecutive sphere tests form one phase. State codes are
-// UnitState's (intersection_unit.h): sphere 1, transform 2, primitive 3, stall 4, box 5.
-// Needs the detail (FunctionalFrame::detailed).
+// unit performs it: sphere tests (and node tests of its tree), and for each entered sphere
+// its transform, box tests, triangle tests and memory stall. The tests before a sphere is
+// entered form one phase of node tests, then one of sphere tests. State codes are
+// UnitState's (intersection_unit.h): sphere 1, transform 2, primitive 3, stall 4, box 5,
+// node 6. Needs the detail (FunctionalFrame::detailed).
 template <typename T, typename Phase>
 void for_each_phase(const FunctionalFrame<T>& f, const UnitRayWork* w, std::uint32_t u, std::uint32_t transform_cost,
                     Phase&& phase) {
@@ -113,22 +121,26 @@ void for_each_phase(const FunctionalFrame<T>& f, const UnitRayWork* w, std::uint
     if (cycles) phase(state, cycles);
   };
   if (!w) {
-    emit(1, std::uint64_t{f.unit_entries[u]} * f.sphere_cost);
+    if (f.unit_top[u]) emit(6, f.node_cost);
+    else emit(1, std::uint64_t{f.unit_entries[u]} * f.sphere_cost);
     return;
   }
   const UnitTrace<T>& ut = f.units[u];
   const std::uint32_t i = ut.index(w);
-  std::uint32_t tested = 0;
+  std::uint32_t spheres = 0, nodes = 0;
   for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
     const VisitWork& v = ut.visits[k];
-    emit(1, std::uint64_t{v.entry + 1 - tested} * f.sphere_cost);
-    tested = v.entry + 1;
+    emit(6, std::uint64_t{v.nodes_before} * f.node_cost);
+    emit(1, std::uint64_t{v.spheres_before} * f.sphere_cost);
+    spheres += v.spheres_before;
+    nodes += v.nodes_before;
     emit(2, transform_cost);
     emit(5, v.box);
     emit(3, v.primitive);
     emit(4, v.stall);
   }
-  emit(1, std::uint64_t{ut.sphere_tests[i] - tested} * f.sphere_cost);
+  emit(6, std::uint64_t{ut.node_tests[i] - nodes} * f.node_cost);
+  emit(1, std::uint64_t{ut.sphere_tests[i] - spheres} * f.sphere_cost);
 }
 
 extern template struct FunctionalFrame<float>;

@@ -30,6 +30,7 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
   if (vcd_) {
     vcd_in_flight_ = vcd_->add(this->name(), "rays_in_flight", 32);
     vcd_frame_ = vcd_->add(this->name(), "frame", 32);
+    if (arch.top_tree()) vcd_refit_ = vcd_->add(this->name(), "refit", 1);
   }
   SC_THREAD(run);
 }
@@ -132,7 +133,7 @@ void Gpp<T>::issue(std::uint32_t id) {
   ++stats_.rays[static_cast<int>(frame_.rays[id].kind)];
   trace_in_flight();
   RayPacket<T> packet{id, &frame_.rays[id]};
-  write(addr::broadcast_rays, &packet, Bytes<T>::ray);
+  write(addr::broadcast_rays, &packet, Bytes<T>::ray_bytes(arch_.top_tree()));
 }
 
 template <typename T>
@@ -202,16 +203,31 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
 // assignment moves spheres, the geometry a unit gains is written into its memory over the
 // bus before the frame's rays: that transfer is part of the frame. Non-rigid (deforming)
 // spheres are rewritten every frame.
+// A unit whose spheres exceed its memory's capacity (memory.sram_bytes) reads them from
+// DRAM through its memory, now a cache (cache.h): DRAM holds the whole scene from the
+// set-up on, so nothing moves when its spheres change; deforming geometry is rewritten in
+// DRAM, and dropped from every cache.
 template <typename T>
 void Gpp<T>::load_memories() {
   loaded_.resize(assignment_.size());
+  cached_.resize(assignment_.size(), 0);
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> rewritten;
+  const GeometryAddresses<T> at(geom_);
+  for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s)
+    if (geom_.deforming[s] && arch_.memory.sram_bytes) {
+      rewritten.push_back(at.triangles_of(geom_, s));
+      rewritten.push_back(at.nodes_of(geom_, s));
+    }
   for (std::size_t u = 0; u < assignment_.size(); ++u) {
+    const bool cache = memory_is_cache(arch_, assigned_bytes(geom_, assignment_[u]));
     std::uint64_t bytes = 0;
     for (std::uint32_t s : assignment_[u])
-      if (geom_.deforming[s] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())
+      if (geom_.deforming[s] ||
+          (!cache && (cached_[u] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())))
         bytes += geom_.memory_bytes(s);  // triangles, and nodes with a BVH
-    if (loaded_[u] == assignment_[u] && bytes == 0) continue;
-    MemoryLoadPacket packet{assignment_[u]};
+    if (loaded_[u] == assignment_[u] && cache == static_cast<bool>(cached_[u]) && bytes == 0) continue;
+    MemoryLoadPacket packet{assignment_[u], cache, cache ? rewritten : decltype(rewritten){}};
+    cached_[u] = cache ? 1 : 0;
     stats_.memory_load_bytes += bytes;
     const sc_time before = clock_.now();
     write(addr::iu_window(static_cast<int>(u)) + addr::iu_memory, &packet, static_cast<unsigned>(bytes));
@@ -228,13 +244,27 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   if (vcd_) vcd_->change(vcd_frame_, stats_.start.value(), static_cast<std::uint64_t>(cmd.frame));
   const FrameSetup<T> setup = setup_frame(scene_, geom_, cmd.frame, cmd.to_world, cmd.camera);
 
-  // Configuration registers: each unit's spheres, world spheres and matrices.
+  // Configuration registers: each unit's spheres, world spheres and matrices, and with
+  // --top bvh its tree over them, refitted to the frame by the GPP (rebuilt first where the
+  // unit's spheres changed; building, like choosing the assignment, is not charged).
   units_ = static_cast<unsigned>(assignment_.size());
   registers_.resize(units_);
+  trees_.resize(arch_.top_tree() ? units_ : 0);
   for (unsigned u = 0; u < units_; ++u) {
     registers_[u].load(setup, geom_, assignment_[u]);
-    ConfigPacket<T> packet{&registers_[u]};
-    const unsigned bytes = static_cast<unsigned>(assignment_[u].size()) * Bytes<T>::sphere_config;
+    if (arch_.top_tree())
+      stats_.refit_nodes += load_top(registers_[u], trees_[u], assignment_[u], setup, geom_, &stats_.built_nodes);
+  }
+  if (stats_.refit_nodes) {
+    stats_.refit_cycles = stats_.refit_nodes * static_cast<std::uint64_t>(arch_.gpp.cycles_per_node);
+    if (vcd_) vcd_->change(vcd_refit_, clock_.now().value(), 1);
+    clock_.advance(cycle_ * static_cast<double>(stats_.refit_cycles));
+    if (vcd_) vcd_->change(vcd_refit_, clock_.now().value(), 0);
+  }
+  for (unsigned u = 0; u < units_; ++u) {
+    ConfigPacket<T> packet{&registers_[u], cached_[u] != 0};
+    const unsigned bytes = static_cast<unsigned>(assignment_[u].size()) * Bytes<T>::sphere_config +
+                           static_cast<unsigned>(registers_[u].top.size()) * Bytes<T>::top_node;
     stats_.config_bytes += bytes;
     write(addr::iu_window(static_cast<int>(u)) + addr::iu_config, &packet, bytes);
   }
@@ -243,7 +273,9 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   const CameraRays camera(cmd.camera, cmd.width, cmd.height);
   const Shader<T> shader(scene_, setup);
   try {
-    trace_functional(frame_, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height, vcd_ != nullptr);
+    // The records' detail for the waveform's phases, and for caches, which time each visit.
+    const bool caches = std::find(cached_.begin(), cached_.end(), 1) != cached_.end();
+    trace_functional(frame_, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height, vcd_ != nullptr || caches);
   } catch (const Interrupted&) {  // SIGINT / SIGTERM: abandon the frame; the testbench says what completed
     sc_stop();
     wait(abandoned_);  // never notified

@@ -20,6 +20,7 @@
 #include "hw/local_clock.h"
 #include "hw/payloads.h"
 #include "hw/ray_fifo.h"
+#include "hw/visit_stream.h"
 #include "hw/vcd_writer.h"
 #include "hw/watchdog.h"
 #include "ref/image.h"
@@ -43,6 +44,9 @@ struct GppStats {
   std::uint64_t config_bytes = 0;
   std::uint64_t memory_load_bytes = 0;   // geometry written into object memories this frame
   std::uint64_t memory_load_cycles = 0;  // how long the GPP waited for those writes (0 on an ideal bus)
+  // --top bvh: nodes of the units' trees over their spheres refitted this frame, the GPP's
+  // cycles for that, and nodes built anew (the assignment changed)
+  std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;
 };
 
 template <typename T>
@@ -91,7 +95,9 @@ class Gpp : public sc_core::sc_module, public Waiter {
   FunctionalFrame<T>& frame_;
   const sc_core::sc_time cycle_;
   std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
+  std::vector<char> cached_;  // per unit: its spheres do not fit, its object memory is a cache
   std::vector<IuRegisters<T>> registers_;
+  std::vector<TopTree> trees_;  // --top bvh: per unit
   LocalClock clock_;
   const bool sync_on_bus_;
   GppStats stats_;
@@ -118,7 +124,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
   std::function<void(std::uint64_t, std::uint64_t)> progress_;
   std::uint64_t primaries_retired_ = 0, pixel_count_ = 0;
   VcdWriter* vcd_;
-  int vcd_in_flight_ = -1, vcd_frame_ = -1;
+  int vcd_in_flight_ = -1, vcd_frame_ = -1, vcd_refit_ = -1;
   // For the watchdog (plain stores): in a frame, and what it waits for (-1: answers only,
   // else also room in that FIFO).
   bool in_frame_ = false;

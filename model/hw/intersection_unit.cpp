@@ -5,17 +5,33 @@ namespace oprt::hw {
 using namespace sc_core;
 
 namespace {
-// Nothing else observes a unit's intermediate times when its FIFO never fills and its
-// answers take no bus time (local_clock.h).
+// A unit's cache misses contend with other units' when they share a DRAM channel, or cross
+// a shared bus.
+bool dram_shared(const Arch& a) {
+  return a.memory.sram_bytes != 0 && (a.memory.dram.units_per_channel > 1 ||
+                                      (a.memory.dram.path == DramPath::bus && a.bus.model == BusModel::shared));
+}
+
+// Nothing else observes a unit's intermediate times when its FIFO never fills, its answers
+// take no bus time and its cache misses, if any, contend with no one's (local_clock.h).
 LocalClock::Mode unit_clock(const Arch& a) {
-  if (a.fifo_depth == 0 && a.bus.model == BusModel::ideal && !a.sync_every_ray) return LocalClock::Mode::ahead;
+  if (a.fifo_depth == 0 && a.bus.model == BusModel::ideal && !dram_shared(a) && !a.sync_every_ray)
+    return LocalClock::Mode::ahead;
   return a.level == Level::lt ? LocalClock::Mode::quantum : LocalClock::Mode::exact;
+}
+
+// Whether the object memory waits until each miss is due before sending it: always where
+// the unit keeps exact time; under temporal decoupling where misses contend and the bus's
+// lt_arbitration asks initiators to synchronise (bus.h), as the bus's own transfers do.
+bool sync_misses(const Arch& a, LocalClock::Mode m) {
+  if (m == LocalClock::Mode::exact) return true;
+  return m == LocalClock::Mode::quantum && dram_shared(a) && a.bus.lt_arbitration == LtArbitration::sync;
 }
 }  // namespace
 
 template <typename T>
 IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const Arch& arch,
-                                      const FunctionalFrame<T>& frame, VcdWriter* vcd)
+                                      const SceneGeometry<T>& geometry, const FunctionalFrame<T>& frame, VcdWriter* vcd)
     : sc_module(name),
       cfg("cfg"),
       bus("bus"),
@@ -23,11 +39,14 @@ IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const 
       fifo("fifo"),
       id_(id),
       arch_(arch),
+      geom_(geometry),
       frame_(frame),
       cycle_(arch.cycle_ns(), SC_NS),
       triangle_bytes_(Bytes<T>::triangle(arch.kernel)),
       clock_(unit_clock(arch)),
       sync_on_bus_(arch.bus.model == BusModel::shared && arch.bus.lt_arbitration == LtArbitration::sync),
+      sync_misses_(sync_misses(arch, clock_.mode())),
+      addresses_(geometry),
       vcd_(vcd) {
   cfg.register_b_transport(this, &IntersectionUnit::cfg_transport);
   if (vcd_) vcd_state_ = vcd_->add(this->name(), "state", 3);
@@ -46,7 +65,9 @@ void IntersectionUnit<T>::cfg_transport(tlm::tlm_generic_payload& p, sc_time&) {
     p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
     return;
   }
-  regs_ = *reinterpret_cast<const ConfigPacket<T>*>(p.get_data_ptr())->registers;
+  const auto* c = reinterpret_cast<const ConfigPacket<T>*>(p.get_data_ptr());
+  regs_ = *c->registers;
+  cached_ = c->cached;
   p.set_response_status(tlm::TLM_OK_RESPONSE);
 }
 
@@ -82,6 +103,65 @@ void IntersectionUnit<T>::read_memory(std::uint32_t sphere, std::uint64_t bytes)
 }
 
 template <typename T>
+void IntersectionUnit<T>::advance_tracing(UnitState s, std::uint64_t cycles) {
+  if (!cycles) return;
+  if (vcd_) trace_state(s, clock_.now());
+  clock_.advance(sc_time::from_value(cycles * cycle_.value()));
+}
+
+// A ray through a cache: visit by visit, each timed by the memory from the moment its sphere
+// test hits. The tests before each visit, and after the last, are the functional trace's;
+// the trace's memory stall (on-chip memory's) is replaced by the cache's. Returns the cycles
+// the unit spent: busy and the cache's stall.
+template <typename T>
+std::uint64_t IntersectionUnit<T>::trace_through_cache(const RayRecord<T>& r, const UnitRayWork& w) {
+  const UnitTrace<T>& ut = frame_.units[static_cast<std::uint32_t>(id_)];
+  const std::uint32_t i = ut.index(&w);
+  const std::uint32_t transform = arch_.kernel_costs().transform;
+  const sc_time start = clock_.now();
+  std::uint32_t spheres = 0, nodes = 0;
+  std::uint64_t trace_stall = 0, stall = 0;
+  for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
+    const VisitWork& v = ut.visits[k];
+    advance_tracing(UnitState::node, std::uint64_t{v.nodes_before} * frame_.node_cost);
+    advance_tracing(UnitState::sphere, std::uint64_t{v.spheres_before} * frame_.sphere_cost);
+    nodes += v.nodes_before;
+    spheres += v.spheres_before;
+    trace_stall += v.stall;
+    const WorkCounts again = visit_stream(geom_, regs_, r.ray, r.kind, v.entry, addresses_, stream_);
+    if (again.tri_tests() != v.tri_tests || again.box_tests != v.box_tests)
+      SC_REPORT_FATAL(name(), "a visit walked again for its addresses differs from the functional trace");
+    const VisitCosts costs = visit_costs(arch_, again);
+    if (vcd_) {
+      trace_state(UnitState::transform, clock_.now());
+      if (again.box_setups) trace_state(UnitState::box, clock_.now() + sc_time::from_value(transform * cycle_.value()));
+    }
+    const std::uint64_t bytes = std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node;
+    MemoryReadPacket packet{v.sphere, bytes, &stream_, &costs, sync_misses_, vcd_ ? vcd_state_ : -1};
+    read_.set_command(tlm::TLM_READ_COMMAND);
+    read_.set_address(0);
+    read_.set_data_ptr(reinterpret_cast<unsigned char*>(&packet));
+    read_.set_data_length(static_cast<unsigned>(bytes));
+    read_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+    if (sync_misses_) clock_.sync();  // lt: the memory may wait, from local time
+    sc_time delay = clock_.offset();
+    mem->b_transport(read_, delay);
+    if (read_.is_response_error())
+      SC_REPORT_FATAL(name(), ("object memory does not hold sphere " + std::to_string(v.sphere)).c_str());
+    if (sync_misses_) clock_.resync();
+    clock_.advance_to(sc_time_stamp() + delay);  // the visit's end
+    stall += packet.stall;
+  }
+  advance_tracing(UnitState::node, std::uint64_t{ut.node_tests[i] - nodes} * frame_.node_cost);
+  advance_tracing(UnitState::sphere, std::uint64_t{ut.sphere_tests[i] - spheres} * frame_.sphere_cost);
+  stats_.cache_stall += stall;
+  const std::uint64_t spent = w.cycles - trace_stall + stall;  // busy, and the cache's stall
+  if (static_cast<std::uint64_t>((clock_.now() - start).value() / cycle_.value()) != spent)
+    SC_REPORT_FATAL(name(), "a ray through the cache took other cycles than its work and its stalls");
+  return spent;
+}
+
+template <typename T>
 void IntersectionUnit<T>::run() {
   const auto unit = static_cast<std::uint32_t>(id_);
   for (;;) {
@@ -102,21 +182,25 @@ void IntersectionUnit<T>::run() {
     const RayRecord<T>& r = frame_.rays[e.ray];
     const int kind = static_cast<int>(r.kind);
     const UnitRayWork* w = frame_.find(e.ray, unit);
-    if (w && frame_.detailed) {
-      const UnitTrace<T>& ut = frame_.units[unit];
-      const std::uint32_t i = ut.index(w);
-      for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
-        const VisitWork& v = ut.visits[k];
-        read_memory(v.sphere, std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node);
-      }
-    } else if (w) {
-      read_memory(kNone, w->bytes);
-    }
-    if (vcd_) trace_phases(w, clock_.now());
-    const std::uint64_t cycles = frame_.cycles(w, unit);
     ++stats_.rays[kind];
-    stats_.charged += cycles;
-    clock_.advance(sc_time::from_value(cycles * cycle_.value()));
+    const UnitTrace<T>& ut = frame_.units[unit];
+    if (cached_ && w && ut.visit_first[ut.index(w) + 1] > ut.visit_first[ut.index(w)]) {
+      stats_.charged += trace_through_cache(r, *w);  // the trace keeps the detail for caches (Gpp)
+    } else {
+      if (w && frame_.detailed) {
+        const std::uint32_t i = ut.index(w);
+        for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
+          const VisitWork& v = ut.visits[k];
+          read_memory(v.sphere, std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node);
+        }
+      } else if (w) {
+        read_memory(kNone, w->bytes);
+      }
+      if (vcd_) trace_phases(w, clock_.now());
+      const std::uint64_t cycles = frame_.cycles(w, unit);
+      stats_.charged += cycles;
+      clock_.advance(sc_time::from_value(cycles * cycle_.value()));
+    }
 
     // Answer the GPP. The unit waits for its transfer: time on the bus is a stall.
     AnswerPacket<T> a;

@@ -12,6 +12,10 @@
 // out in one step (phases are only reported to the VCD, with their times): one simulation
 // event per ray at most, none while idle, and none at all per ray when nothing can observe
 // the unit's intermediate times (local_clock.h, `ahead`).
+//
+// When its spheres do not fit its object memory, the memory is a cache (cache.h): the unit
+// then works through a ray visit by visit, sends each visit's reads with their addresses
+// (walked again, visit_stream.h) and lets the memory time them line by line.
 #pragma once
 
 #include "hw/functional_frame.h"
@@ -20,6 +24,7 @@
 #include "hw/ray_fifo.h"
 #include "hw/unit_cycles.h"
 #include "hw/vcd_writer.h"
+#include "hw/visit_stream.h"
 #include "hw/watchdog.h"
 
 #include <systemc>
@@ -29,7 +34,7 @@
 
 namespace oprt::hw {
 
-enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primitive = 3, stall = 4, box = 5 };
+enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primitive = 3, stall = 4, box = 5, node = 6 };
 
 // What the unit measured in the frame. Its busy cycles by activity are the functional
 // trace's (FunctionalFrame::unit_cycles); `charged` is what it waited out for them, which must
@@ -37,6 +42,9 @@ enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primi
 struct UnitStats {
   std::uint64_t charged = 0;    // busy and memory stall, summed ray by ray
   std::uint64_t bus_stall = 0;  // waiting for the shared bus to take its answers
+  // Through an object memory that is a cache (--sram): its stall replaces the trace's, which
+  // is on-chip memory's.
+  std::uint64_t cache_stall = 0;
   std::uint64_t rays[kRayKinds] = {};
 };
 
@@ -49,7 +57,7 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   sc_core::sc_port<RayFifoIf> fifo;
 
   SC_HAS_PROCESS(IntersectionUnit);
-  IntersectionUnit(const sc_core::sc_module_name& name, int id, const Arch& arch,
+  IntersectionUnit(const sc_core::sc_module_name& name, int id, const Arch& arch, const SceneGeometry<T>& geometry,
                    const FunctionalFrame<T>& frame, VcdWriter* vcd);
 
   int id() const { return id_; }
@@ -62,11 +70,14 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   void run();
   void cfg_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
   void read_memory(std::uint32_t sphere, std::uint64_t bytes);
+  std::uint64_t trace_through_cache(const RayRecord<T>& r, const UnitRayWork& w);
+  void advance_tracing(UnitState s, std::uint64_t cycles);
   void trace_state(UnitState s, const sc_core::sc_time& at);
   void trace_phases(const UnitRayWork* w, sc_core::sc_time at);
 
   const int id_;
   const Arch& arch_;
+  const SceneGeometry<T>& geom_;
   const FunctionalFrame<T>& frame_;
   const sc_core::sc_time cycle_;
   const std::uint32_t triangle_bytes_;
@@ -74,6 +85,11 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   UnitStats stats_;
   LocalClock clock_;
   const bool sync_on_bus_;
+  // Its object memory is a cache this frame (ConfigPacket), and what timing through it needs.
+  bool cached_ = false;
+  const bool sync_misses_;  // the memory waits until each miss is due (shared DRAM channel or bus)
+  const GeometryAddresses<T> addresses_;
+  VisitStream stream_;
   tlm::tlm_generic_payload answer_, read_;
   VcdWriter* vcd_;
   int vcd_state_ = -1;

@@ -5,6 +5,7 @@
 // id).
 #pragma once
 
+#include "hw/cache.h"
 #include "ref/image.h"
 #include "ref/traverse.h"
 
@@ -17,6 +18,7 @@ namespace oprt::hw {
 namespace addr {
 constexpr std::uint64_t gpp_hits = 0x0400'0000;        // answers from the units
 constexpr std::uint64_t broadcast_rays = 0x0800'0000;  // a ray written here enters every FIFO
+constexpr std::uint64_t dram = 0x0C00'0000;            // cache line fills (memory.dram.path "bus")
 constexpr std::uint64_t region_size = 0x1000;
 constexpr std::uint64_t iu_base = 0x1000'0000;
 constexpr std::uint64_t iu_stride = 0x0100'0000;
@@ -30,12 +32,17 @@ constexpr std::uint64_t iu_window(int unit) { return iu_base + static_cast<std::
 template <typename T>
 struct Bytes {
   static constexpr unsigned ray = 8 + 7 * sizeof(T);                   // id, kind, o, d, tmax
+  // --top bvh: the ray also carries its reciprocal direction, computed once by the GPP for
+  // every unit's node tests (ref/top_traverse.h)
+  static constexpr unsigned ray_with_reciprocal = ray + 3 * sizeof(T);
+  static constexpr unsigned ray_bytes(bool top) { return top ? ray_with_reciprocal : ray; }
   static constexpr unsigned nearest_answer = 12 + 8 + 3 * sizeof(T);   // ray, unit, flags; object, prim; t, u, v
   static constexpr unsigned shadow_answer = 12;                        // ray, unit, occluded
   static constexpr unsigned sphere_config = 4 + 16 * sizeof(T);        // id, centre, radius, 3x4 matrix
   // per triangle, in the kernel's format: Moller v0, e1, e2, n; watertight v0, v1, v2
   static constexpr unsigned triangle(Kernel k) { return triangle_bytes<T>(k); }
   static constexpr unsigned node = BvhNode<T>::kBytes;                 // box, offset, count, axis
+  static constexpr unsigned top_node = 6 * sizeof(T) + 8;              // --top bvh: box, child or entry, leaf, axis
 };
 
 // Rays of the frame in flight, by id. Written by the GPP; units read the ray a FIFO entry
@@ -65,6 +72,7 @@ struct AnswerPacket {
 template <typename T>
 struct ConfigPacket {
   const IuRegisters<T>* registers;
+  bool cached = false;  // its object memory is a cache (its spheres do not fit): time visits through it
 };
 
 // The host's command for one frame (the data of a write to the GPP's host socket).
@@ -82,6 +90,9 @@ struct FrameCommand {
 // Object memory contents: which spheres' triangle blocks are loaded.
 struct MemoryLoadPacket {
   std::vector<std::uint32_t> spheres;
+  bool cache = false;  // they do not fit: the memory is a cache in front of DRAM (cache.h)
+  // Cache: DRAM byte ranges rewritten this frame (deforming geometry), to drop from it.
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> rewritten;
 };
 
 // The reads of one sphere visit: its triangles (and, with a BVH, its nodes); sphere kNone:
@@ -89,6 +100,19 @@ struct MemoryLoadPacket {
 struct MemoryReadPacket {
   std::uint32_t sphere;
   std::uint64_t bytes;
+  // A cache times the visit: what it reads, and the unit's costs; the annotated delay is
+  // the visit's start, and on return its end.
+  const VisitStream* stream = nullptr;
+  const VisitCosts* costs = nullptr;
+  bool sync = false;   // wait until each miss is due before sending it (DRAM sees requests in time order)
+  int state_var = -1;  // the unit's state signal in the VCD, for its stalls
+  std::uint64_t stall = 0;  // out: the visit's stall cycles
+};
+
+// A cache line fill from DRAM.
+struct MemoryFillPacket {
+  std::uint32_t unit;
+  std::uint64_t address;
 };
 
 }  // namespace oprt::hw

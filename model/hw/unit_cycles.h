@@ -15,19 +15,21 @@ namespace oprt::hw {
 struct UnitCycles {
   std::uint64_t sphere = 0, transform = 0, primitive = 0;  // busy
   std::uint64_t box = 0;    // busy, --accel bvh: box set-ups and box tests
+  std::uint64_t node = 0;   // busy, --top bvh: node tests of the unit's tree over its spheres
   std::uint64_t stall = 0;  // waiting for object memory or for the bus
-  std::uint64_t busy() const { return sphere + transform + box + primitive; }
+  std::uint64_t busy() const { return sphere + transform + box + primitive + node; }
   UnitCycles& operator+=(const UnitCycles& o) {
     sphere += o.sphere;
     transform += o.transform;
     primitive += o.primitive;
     box += o.box;
+    node += o.node;
     stall += o.stall;
     return *this;
   }
   bool operator==(const UnitCycles& o) const {
     return sphere == o.sphere && transform == o.transform && primitive == o.primitive && box == o.box &&
-           stall == o.stall;
+           node == o.node && stall == o.stall;
   }
 };
 
@@ -83,6 +85,7 @@ inline UnitCycles work_cycles(const WorkCounts& w, const CycleCosts& c, Kernel k
   u.transform = w.transforms * k.transform;
   u.primitive = primitive_cycles(w, k);
   u.box = box_cycles(w, c);
+  u.node = w.node_tests * c.node;
   return u;
 }
 

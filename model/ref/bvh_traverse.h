@@ -40,11 +40,14 @@ inline std::uint8_t* log_leaf(std::vector<std::uint8_t>* log, std::uint32_t coun
 
 // The walk both ray kinds share: near child first, a node entered if its box meets the ray
 // before limit() (the ray's extent, or the best hit so far), leaf(node) called on each leaf
-// entered; it returns true to stop the walk (a shadow ray's first occluder).
+// entered; it returns true to stop the walk (a shadow ray's first occluder). `ids`, if
+// given, receives the index of every node tested, in order (the addresses a memory model
+// needs: hw/visit_stream.h).
 template <typename T, typename Limit, typename Leaf>
 void walk_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const Ray<T>& ray, WorkCounts& w,
-              std::vector<std::uint8_t>* log, Limit&& limit, Leaf&& leaf) {
+              std::vector<std::uint8_t>* log, Limit&& limit, Leaf&& leaf, std::vector<std::uint32_t>* ids = nullptr) {
   if (log) log->clear();
+  if (ids) ids->clear();
   if (mem.nodes_in(s) == 0) return;
   const BoxRay<T> br = box_ray(ray);
   ++w.box_setups;
@@ -55,6 +58,7 @@ void walk_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const Ray<T>& ray, W
     const BvhNode<T>& n = mem.nodes[node];
     ++w.box_tests;
     log_node(log);
+    if (ids) ids->push_back(node);
     if (hit_box(br, n.box, limit())) {
       if (!n.leaf()) {
         // The first child holds the lower centroids along the axis: the near side unless
@@ -74,21 +78,21 @@ void walk_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const Ray<T>& ray, W
 // Nearest hit in sphere s; `w` gets one box set-up, the box tests and the triangle tests.
 template <typename T>
 BlockHit<T> nearest_in_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const Ray<T>& ray, WorkCounts& w,
-                           std::vector<std::uint8_t>* log) {
+                           std::vector<std::uint8_t>* log, std::vector<std::uint32_t>* ids = nullptr) {
   BlockHit<T> best;
   walk_bvh(mem, s, ray, w, log, [&] { return best.valid() ? best.t : ray.tmax; }, [&](const BvhNode<T>& n) {
     std::uint8_t* l = log_leaf(log, n.count);
     const BlockHit<T> h = nearest_in_block(mem.tris, n.offset, n.offset + n.count, ray, w.tri_stage, &w.tri_hits, l);
     if (h.valid() && (h.t < best.t || (h.t == best.t && mem.prim[h.index] < mem.prim[best.index]))) best = h;
     return false;
-  });
+  }, ids);
   return best;
 }
 
 // Any hit in (0, tmax) in sphere s: stops at the first occluder found.
 template <typename T>
 bool any_in_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const Ray<T>& ray, WorkCounts& w,
-                std::vector<std::uint8_t>* log) {
+                std::vector<std::uint8_t>* log, std::vector<std::uint32_t>* ids = nullptr) {
   bool occluded = false;
   walk_bvh(mem, s, ray, w, log, [&] { return ray.tmax; }, [&](const BvhNode<T>& n) {
     std::uint8_t* l = log_leaf(log, n.count);
@@ -96,7 +100,7 @@ bool any_in_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const Ray<T>& ray,
     occluded = any_in_block(mem.tris, n.offset, n.offset + n.count, ray, w.tri_stage, &w.tri_hits, l);
     if (occluded && log) log->resize(log->size() - n.count + (w.tri_tests() - before));  // the tests not made
     return occluded;
-  });
+  }, ids);
   return occluded;
 }
 

@@ -64,6 +64,7 @@ FrameSetup<T> setup_frame(const Scene& scene, const SceneGeometry<T>& g, int fra
     magnitude = std::fmax(magnitude, max_abs_component(world[s].c) + world[s].r);
   }
   const double margin = 64 * static_cast<double>(std::numeric_limits<T>::epsilon()) * magnitude;
+  f.margin = margin;
   f.world_sphere.resize(g.sphere_count());
   f.lights = scene.lights;
   for (PointLight& l : f.lights) l.position = l.at(frame);

@@ -16,6 +16,7 @@ struct FrameSetup {
   std::vector<Placement> placement;     // per object, double (the GPP's own copy)
   std::vector<Affine<T>> to_local;      // per object, as the IU registers hold it
   std::vector<Sphere<T>> world_sphere;  // per sphere
+  double margin = 0;                    // how far world bounds reach beyond their content, for rounding
   std::vector<char> visible;            // per sphere: its object takes part in this frame
   std::vector<PointLight> lights;       // the scene's lights where they are in this frame
 };

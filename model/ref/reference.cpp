@@ -41,7 +41,9 @@ struct WorkRecorder {
     ++work->rays[kind];
   }
   void begin_unit(std::uint32_t) {}
-  void visit(const SphereVisit& v) { work->per_sphere[kind][v.sphere] += v.work; }
+  void visit(const SphereVisit& v) {
+    if (v.sphere != kNone) work->per_sphere[kind][v.sphere] += v.work;
+  }
   template <typename Answer>
   void end_unit(std::uint32_t, const Answer&) {}
   void end_ray() {}

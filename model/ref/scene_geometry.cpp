@@ -84,6 +84,15 @@ void store_nodes(SceneGeometry<T>& g, std::uint32_t s, const std::vector<BvhNode
   }
 }
 
+// Sphere s's triangles' bounds, padded like its BVH root (bvh_pad), rounded out to T.
+template <typename T>
+void set_local_box(SceneGeometry<T>& g, std::uint32_t s, const Mesh& mesh, const std::vector<Vec3d>& verts) {
+  double magnitude = 0;
+  Box<double> b;
+  for (const Box<double>& t : triangle_bounds(g, mesh, verts, g.first[s], g.first[s + 1], magnitude)) b.extend(t);
+  g.local_box[s] = round_out<T>(b, bvh_pad<T>(static_cast<double>(g.local_sphere[s].r), magnitude));
+}
+
 // Build sphere s's BVH and put its triangles in leaf order.
 template <typename T>
 void build_sphere_bvh(SceneGeometry<T>& g, std::uint32_t s, const Mesh& mesh, double radius) {
@@ -150,6 +159,7 @@ std::uint64_t update_deforming(SceneGeometry<T>& g, const Scene& scene, int fram
       }
     }
     g.local_sphere[s] = enclosing<T>(minimal_sphere(points), stored);
+    set_local_box(g, s, obj.mesh, verts);
     if (g.has_bvh()) refit_sphere_bvh(g, s, obj.mesh, verts);
     bytes += g.memory_bytes(s);
   }
@@ -202,6 +212,9 @@ SceneGeometry<T> build_geometry(const Scene& scene, std::vector<SphereDef> defs,
     for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
       build_sphere_bvh(g, s, scene.objects[g.object[s]].mesh, static_cast<double>(g.local_sphere[s].r));
   }
+  g.local_box.resize(g.sphere_count());
+  for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
+    set_local_box(g, s, scene.objects[g.object[s]].mesh, scene.objects[g.object[s]].mesh.vertices);
   g.defs = std::move(defs);
   return g;
 }

@@ -36,6 +36,10 @@ struct SceneGeometry {
   // each sphere's depth first from its root; leaf offsets index `tris` directly.
   std::vector<std::uint32_t> first_node;
   std::vector<BvhNode<T>> nodes;
+  // Per sphere, in the local frame: the bounds of its triangles, padded as a BVH root is
+  // (so that it holds every point a kernel may report), whatever the accel. What the
+  // unit's tree over its spheres bounds (--top bvh, ref/top_tree.h).
+  std::vector<Box<T>> local_box;
 
   std::uint32_t sphere_count() const { return static_cast<std::uint32_t>(object.size()); }
   std::uint32_t triangles_in(std::uint32_t s) const { return first[s + 1] - first[s]; }

@@ -14,6 +14,7 @@
 #include "geom/sphere_soa.h"
 #include "ref/bvh_traverse.h"
 #include "ref/frame_setup.h"
+#include "ref/top_tree.h"
 #include "ref/work.h"
 
 #include <limits>
@@ -44,6 +45,7 @@ struct IuRegisters {
   std::vector<Sphere<T>> world;       // per entry: world bounding sphere
   std::vector<Affine<T>> to_local;    // per entry: world -> local of its object
   SphereSoA<T> world_streams;         // `world` again as streams, for the SIMD sphere test
+  std::vector<TopNode<T>> top;        // --top bvh: the tree over the entries (empty: flat, ref/top_tree.h)
 
   std::size_t size() const { return sphere.size(); }
   void load(const FrameSetup<T>& f, const SceneGeometry<T>& g, const std::vector<std::uint32_t>& spheres) {
@@ -51,6 +53,7 @@ struct IuRegisters {
     world.clear();
     to_local.clear();
     world_streams.clear();
+    top.clear();
     for (std::uint32_t s : spheres) {
       if (!f.visible[s]) continue;  // hidden this frame: the GPP does not write it
       sphere.push_back(s);
@@ -90,11 +93,20 @@ struct SphereVisit {
   // If logged, in memory order: per tested triangle its exit stage, and (BVH) kLogNode per
   // node; work.tri_tests() + work.box_tests entries.
   const std::uint8_t* stages = nullptr;
+  // --top bvh: nodes of the unit's tree tested since the previous sphere test. A walk that
+  // ends with node tests reports them in a last visit with sphere == kNone (no sphere test).
+  std::uint32_t nodes_before = 0;
 };
+
 
 // Scratch for logging exit stages in memory order (the memory model's input); pass nullptr
 // to trace_* when the memory is ideal.
 using StageLog = std::vector<std::uint8_t>;
+
+template <typename T, typename Visit>
+HitRecord<T> trace_nearest_top(const SceneGeometry<T>&, const IuRegisters<T>&, const Ray<T>&, Visit&&, StageLog*);
+template <typename T, typename Visit>
+bool trace_any_top(const SceneGeometry<T>&, const IuRegisters<T>&, const Ray<T>&, Visit&&, StageLog*);
 
 // Nearest hit over the unit's spheres. Every triangle of an entered sphere is tested
 // against the ray's own tmax, never against the nearest hit so far: the exit stage of a
@@ -103,6 +115,7 @@ using StageLog = std::vector<std::uint8_t>;
 template <typename T, typename Visit>
 HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray,
                            Visit&& visit, StageLog* log = nullptr) {
+  if (!regs.top.empty()) return trace_nearest_top(mem, regs, ray, visit, log);  // ref/top_traverse.h
   HitRecord<T> best;
   for_each_sphere_test(regs, ray, [&](std::uint32_t i, bool sphere_hit) {
     SphereVisit v{i, regs.sphere[i], {}};
@@ -141,6 +154,7 @@ HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& re
 template <typename T, typename Visit>
 bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray, Visit&& visit,
                StageLog* log = nullptr) {
+  if (!regs.top.empty()) return trace_any_top(mem, regs, ray, visit, log);  // ref/top_traverse.h
   bool occluded = false;
   for_each_sphere_test(regs, ray, [&](std::uint32_t i, bool sphere_hit) {
     SphereVisit v{i, regs.sphere[i], {}};
@@ -172,7 +186,11 @@ bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ra
 // A visitor that adds each visit's work to a per-sphere table.
 struct AccumulateWork {
   WorkCounts* per_sphere;
-  void operator()(const SphereVisit& v) const { per_sphere[v.sphere] += v.work; }
+  void operator()(const SphereVisit& v) const {
+    if (v.sphere != kNone) per_sphere[v.sphere] += v.work;
+  }
 };
 
 }  // namespace oprt
+
+#include "ref/top_traverse.h"

@@ -17,6 +17,8 @@ struct WorkCounts {
   std::uint64_t tri_hits = 0;                // accepted at the last stage (subset of tri_stage[t])
   std::uint64_t box_setups = 0;  // --accel bvh: per entered sphere, the ray's reciprocal direction
   std::uint64_t box_tests = 0;   // --accel bvh: nodes fetched and box-tested
+  std::uint64_t node_tests = 0;  // --top bvh: nodes of the unit's tree over its spheres tested
+                                 // (work of the unit, never of one sphere: 0 in per-sphere tables)
 
   std::uint64_t tri_tests() const {
     std::uint64_t n = 0;
@@ -30,13 +32,14 @@ struct WorkCounts {
     tri_hits += o.tri_hits;
     box_setups += o.box_setups;
     box_tests += o.box_tests;
+    node_tests += o.node_tests;
     return *this;
   }
   bool operator==(const WorkCounts& o) const {
     for (int i = 0; i < kTriStages; ++i)
       if (tri_stage[i] != o.tri_stage[i]) return false;
     return sphere_tests == o.sphere_tests && transforms == o.transforms && tri_hits == o.tri_hits &&
-           box_setups == o.box_setups && box_tests == o.box_tests;
+           box_setups == o.box_setups && box_tests == o.box_tests && node_tests == o.node_tests;
   }
 };
 

@@ -119,6 +119,17 @@ TEST_CASE("cli: running ahead is exact with a BVH, memory latency and GPP costs 
       "");
 }
 
+TEST_CASE("cli: running ahead is exact with a tree over each unit's spheres and caches on private DRAM channels",
+          "[cli][ahead][top][cache]") {
+  // A cache whose misses contend with no other unit's (one channel per unit) is something
+  // only its own unit observes: units still run ahead, and must report what waiting does.
+  check_running_ahead_is_exact(
+      "cache",
+      R"({"format": "oprt-arch/1", "ius": 6, "accel": "bvh", "top": "bvh", "balance": "sa_n", "subdivide": 2,
+          "memory": {"model": "latency", "sram_bytes": 8192, "dram": {"units_per_channel": 1}}})",
+      "");
+}
+
 TEST_CASE("cli: running ahead is exact at lt", "[cli][ahead]") {
   check_running_ahead_is_exact("lt", R"({"format": "oprt-arch/1", "ius": 9, "balance": "round_robin"})",
                                "--level lt --quantum 100ns");

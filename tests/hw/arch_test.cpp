@@ -68,6 +68,37 @@ TEST_CASE("arch: every field is read", "[arch]") {
   CHECK(to_json(b)["costs"]["box"] == 9);
 }
 
+TEST_CASE("arch: the tree over each unit's spheres and the object memory's capacity", "[arch][top][cache]") {
+  const Arch d = parse(R"({"format": "oprt-arch/1"})");
+  CHECK(d.top == "flat");               // every sphere, as the paper
+  CHECK(d.memory.sram_bytes == 0);      // holds any assignment
+  CHECK(d.costs.node == scheduled_costs().node);
+  const Arch a = parse(R"({"format": "oprt-arch/1", "top": "bvh", "costs": {"node": 11},
+    "gpp": {"cycles_per_node": 35},
+    "memory": {"sram_bytes": 16384, "cache": {"line_bytes": 128, "ways": 8, "replacement": "fifo", "misses_outstanding": 2},
+               "dram": {"latency_cycles": 90, "bytes_per_cycle": 4, "units_per_channel": 2, "path": "bus"}}})");
+  CHECK(a.top_tree());
+  CHECK(a.costs.node == 11);
+  CHECK(a.gpp.cycles_per_node == 35);
+  CHECK(a.memory.model == MemoryModel::ideal);  // "model" may be left out
+  CHECK(a.memory.sram_bytes == 16384);
+  CHECK(a.memory.cache.line_bytes == 128);
+  CHECK(a.memory.cache.ways == 8);
+  CHECK(a.memory.cache.replacement == CacheReplacement::fifo);
+  CHECK(a.memory.cache.misses_outstanding == 2);
+  CHECK(a.memory.dram.latency_cycles == 90);
+  CHECK(a.memory.dram.bytes_per_cycle == 4);
+  CHECK(a.memory.dram.units_per_channel == 2);
+  CHECK(a.memory.dram.path == DramPath::bus);
+  // What stats.json records reads back as the same architecture.
+  const nlohmann::json j = to_json(a);
+  CHECK(j["top"] == "bvh");
+  CHECK(j["memory"]["sram_bytes"] == 16384);
+  CHECK(j["memory"]["cache"]["replacement"] == "fifo");
+  CHECK(j["memory"]["dram"]["path"] == "bus");
+  CHECK(j["gpp"]["cycles_per_node"] == 35);
+}
+
 TEST_CASE("arch: bad files fail with the place and the problem", "[arch]") {
   expect_error(R"({"format": "oprt-arch/1", "ius": 0})", "/ius", "out of range");
   expect_error(R"({"format": "oprt-arch/1", "costs": {"sphere": -1}})", "/costs/sphere", "out of range");
@@ -78,7 +109,19 @@ TEST_CASE("arch: bad files fail with the place and the problem", "[arch]") {
   expect_error(R"({"format": "oprt-arch/1", "kernel": "plucker"})", "/kernel", "unknown value");
   expect_error(R"({"format": "oprt-arch/1", "costs": {"triangle": [4, 22]}})", "/costs/triangle", "expected 4");
   expect_error(R"({"format": "oprt-arch/1", "costs": {"box": -3}})", "/costs/box", "out of range");
-  expect_error(R"({"format": "oprt-arch/1", "costs": {"node": 3}})", "/costs/node", "unknown key");
+  expect_error(R"({"format": "oprt-arch/1", "costs": {"nodes": 3}})", "/costs/nodes", "unknown key");
+  expect_error(R"({"format": "oprt-arch/1", "top": "kd"})", "/top", "unknown value");
+  expect_error(R"({"format": "oprt-arch/1", "memory": {"sram_bytes": -1}})", "/memory/sram_bytes", "out of range");
+  expect_error(R"({"format": "oprt-arch/1", "memory": {"sram_bytes": 100}})", "/memory/sram_bytes",
+               "smaller than one cache set (line_bytes x ways = 256 bytes)");
+  expect_error(R"({"format": "oprt-arch/1", "memory": {"cache": {"line_bytes": 48}}})", "/memory/cache/line_bytes",
+               "power of two");
+  expect_error(R"({"format": "oprt-arch/1", "memory": {"cache": {"replacement": "lfu"}}})",
+               "/memory/cache/replacement", "unknown value");
+  expect_error(R"({"format": "oprt-arch/1", "memory": {"dram": {"units_per_channel": 0}}})",
+               "/memory/dram/units_per_channel", "out of range");
+  expect_error(R"({"format": "oprt-arch/1", "memory": {"dram": {"path": "noc"}}})", "/memory/dram/path",
+               "unknown value");
   expect_error(R"({"format": "oprt-arch/1", "accel": "kd"})", "/accel", "unknown value");
   expect_error(R"({"format": "oprt-arch/1", "bus": {"model": "crossbar"}})", "/bus/model", "unknown value");
   expect_error(R"({"format": "oprt-arch/1", "bus": {"model": "shared", "bytes_per_cycle": 0}})",

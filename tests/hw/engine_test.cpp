@@ -13,12 +13,24 @@ namespace {
 // The work each unit must have done, derived without the SystemC model: replay the frame
 // functionally with each unit's registers (the GPP's job done by hand: merge the units'
 // nearest hits, shade, send the shadow rays to every unit).
+// With `top`, each unit walks a tree over its spheres (built for this frame: the same tree
+// as one built for an earlier frame of the same assignment and refitted).
 std::vector<hw::UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<float>& g, const Assignment& a,
-                                        const CycleCosts& costs, int frame, int w, int h) {
+                                        const CycleCosts& costs, int frame, int w, int h, bool top = false) {
   const FrameSetup<float> f = setup_frame(scene, g, frame);
   std::vector<IuRegisters<float>> regs(a.units());
-  for (std::size_t u = 0; u < a.units(); ++u) regs[u].load(f, g, a.unit[u]);
+  std::vector<TopTree> trees(a.units());
+  for (std::size_t u = 0; u < a.units(); ++u) {
+    regs[u].load(f, g, a.unit[u]);
+    if (top) load_top(regs[u], trees[u], a.unit[u], f, g);
+  }
   std::vector<WorkCounts> work(a.units());
+  auto add = [&](std::size_t u) {
+    return [&work, u](const SphereVisit& v) {
+      work[u] += v.work;
+      work[u].node_tests += v.nodes_before;
+    };
+  };
   const CameraRays cam(f.camera, w, h);
   const Shader<float> shader(scene, f);
   std::vector<Ray<float>> shadow;
@@ -27,14 +39,14 @@ std::vector<hw::UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<
       const Ray<float> ray = cam.ray<float>(x, y);
       HitRecord<float> best;
       for (std::size_t u = 0; u < a.units(); ++u) {
-        const HitRecord<float> hit = trace_nearest(g, regs[u], ray, [&](const SphereVisit& v) { work[u] += v.work; });
+        const HitRecord<float> hit = trace_nearest(g, regs[u], ray, add(u));
         if (hit.valid() && closer(hit, best)) best = hit;
       }
       if (!best.valid()) continue;
       shadow.clear();
       shader.prepare(ray, best, shadow);
       for (const Ray<float>& s : shadow)
-        for (std::size_t u = 0; u < a.units(); ++u) trace_any(g, regs[u], s, [&](const SphereVisit& v) { work[u] += v.work; });
+        for (std::size_t u = 0; u < a.units(); ++u) trace_any(g, regs[u], s, add(u));
     }
   std::vector<hw::UnitCycles> out;
   for (const WorkCounts& wk : work) out.push_back(hw::work_cycles(wk, costs, g.kernel()));
@@ -81,16 +93,18 @@ TEST_CASE("render equals reference bit for bit on paper_polygons", "[engine]") {
 }
 
 namespace {
-void check_busy_is_work(const std::string& accel) {
+void check_busy_is_work(const std::string& accel, const std::string& top = "flat") {
   const Scene scene = load_scene(test::scene_path("paper_room.json"));
   Arch arch;
   arch.ius = 7;  // several spheres per unit: early exits across spheres matter
   arch.balance = "round_robin";
   arch.accel = accel;
+  arch.top = top;
   const int n = 32;
   test::Run run = test::simulate_scene<float>(scene, arch, {3, 3}, n, n);
   const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres, accel_named(accel));
-  const auto expect = replay_busy(scene, g, run.job.assignment, arch.costs, 3, n, n);
+  const auto expect = replay_busy(scene, g, run.job.assignment, arch.costs, 3, n, n, top == "bvh");
+  CHECK(run.job.images.at(0) == render_reference(scene, g, 3, n, n).image);
   const FrameStats& fs = run.job.results.at(0);
   REQUIRE(fs.units.size() == 7);
   for (std::size_t u = 0; u < fs.units.size(); ++u) {
@@ -99,7 +113,9 @@ void check_busy_is_work(const std::string& accel) {
     CHECK(fs.units[u].cycles.transform == expect[u].transform);
     CHECK(fs.units[u].cycles.primitive == expect[u].primitive);
     CHECK(fs.units[u].cycles.box == expect[u].box);
+    CHECK(fs.units[u].cycles.node == expect[u].node);
     CHECK((fs.units[u].cycles.box > 0) == (accel == "bvh"));
+    CHECK((fs.units[u].cycles.node > 0) == (top == "bvh"));
     CHECK(fs.units[u].cycles.stall == 0);  // ideal bus and memory
     CHECK(fs.units[u].cycles.busy() + fs.units[u].idle == fs.makespan);
   }
@@ -115,6 +131,16 @@ TEST_CASE("per-unit busy cycles equal the functional work times the costs", "[en
 
 TEST_CASE("per-unit busy cycles (box tests included) equal the work times the costs with --accel bvh", "[engine][bvh]") {
   check_busy_is_work("bvh");
+}
+
+TEST_CASE("per-unit busy cycles with a tree over each unit's spheres (node tests included) equal the work times the costs",
+          "[engine][top]") {
+  check_busy_is_work("brute", "bvh");
+}
+
+TEST_CASE("per-unit busy cycles with trees over the spheres and in them equal the work times the costs",
+          "[engine][top][bvh]") {
+  check_busy_is_work("bvh", "bvh");
 }
 
 TEST_CASE("every ray retires exactly once and every unit answers every ray", "[engine]") {
@@ -139,10 +165,12 @@ TEST_CASE("every ray retires exactly once and every unit answers every ray", "[e
 }
 
 namespace {
-void check_contended(const std::string& accel) {
+void check_contended(const std::string& accel, std::uint64_t sram = 0, const std::string& top = "flat") {
   const Scene scene = load_scene(test::scene_path("paper_room.json"));
   Arch tight;
   tight.accel = accel;
+  tight.top = top;
+  tight.memory.sram_bytes = sram;  // 0: unlimited; else caches sharing DRAM channels, 4 units each
   tight.ius = 8;
   tight.fifo_depth = 1;
   tight.bus.model = BusModel::shared;
@@ -154,7 +182,7 @@ void check_contended(const std::string& accel) {
   test::Run b = test::simulate_scene<float>(scene, tight, {0, 0}, n, n);
   const SceneGeometry<float> g = build_geometry<float>(scene, b.spheres, accel_named(accel));
   CHECK(b.job.images.at(0) == render_reference(scene, build_geometry<float>(scene, b.spheres), 0, n, n).image);
-  const auto expect = replay_busy(scene, g, b.job.assignment, tight.costs, 0, n, n);
+  const auto expect = replay_busy(scene, g, b.job.assignment, tight.costs, 0, n, n, top == "bvh");
   const FrameStats& fb = b.job.results.at(0);
   std::uint64_t stall = 0, most = 0;
   for (std::size_t u = 0; u < fb.units.size(); ++u) {
@@ -162,6 +190,7 @@ void check_contended(const std::string& accel) {
     CHECK(fb.units[u].cycles.transform == expect[u].transform);
     CHECK(fb.units[u].cycles.primitive == expect[u].primitive);
     CHECK(fb.units[u].cycles.box == expect[u].box);
+    CHECK(fb.units[u].cycles.node == expect[u].node);
     stall += fb.units[u].cycles.stall;
     most = std::max(most, fb.units[u].cycles.busy() + fb.units[u].cycles.stall);
     CHECK(fb.units[u].cycles.busy() + fb.units[u].cycles.stall + fb.units[u].idle == fb.makespan);
@@ -176,6 +205,14 @@ void check_contended(const std::string& accel) {
     WorkCounts w = u.work[0];
     w += u.work[1];
     CHECK(u.memory_bytes == w.tri_tests() * hw::Bytes<float>::triangle(Kernel::moller) + w.box_tests * hw::Bytes<float>::node);
+    CHECK(u.cache == (sram && u.assigned_bytes > sram));
+    if (u.cache) CHECK(u.memory.dram_bytes == 64 * u.memory.misses);
+    else CHECK(u.memory.misses == 0);
+  }
+  if (sram) {
+    std::uint64_t misses = 0;
+    for (const auto& u : fb.units) misses += u.memory.misses;
+    CHECK(misses > 0);
   }
 }
 }  // namespace
@@ -186,6 +223,15 @@ TEST_CASE("fifo depth 1 with a shared bus and memory latency completes with the 
 
 TEST_CASE("contention with --accel bvh keeps the image and the busy cycles while node fetches stall", "[engine][contention][bvh]") {
   check_contended("bvh");
+}
+
+TEST_CASE("contention with caches on shared DRAM channels keeps the image and the work", "[engine][contention][cache]") {
+  check_contended("brute", 16384);
+}
+
+TEST_CASE("contention with caches and a tree over each unit's spheres keeps the image and the work",
+          "[engine][contention][cache][top]") {
+  check_contended("bvh", 4096, "bvh");
 }
 
 TEST_CASE("watertight kernel: render equals reference bit for bit, busy cycles are its work times its costs",

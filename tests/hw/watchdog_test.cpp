@@ -38,10 +38,10 @@ struct Miswired : sc_module {
         bus("bus", arch, false, nullptr),
         fifo0("fifo0", arch.fifo_depth, nullptr),
         fifo1("fifo1", arch.fifo_depth, nullptr),
-        memory0("memory0", arch, g.sphere_count()),
-        memory1("memory1", arch, g.sphere_count()),
-        iu0("iu0", 0, arch, frame, nullptr),
-        iu1("iu1", 1, arch, frame, nullptr) {
+        memory0("memory0", 0, arch, g.sphere_count(), nullptr),
+        memory1("memory1", 1, arch, g.sphere_count(), nullptr),
+        iu0("iu0", 0, arch, g, frame, nullptr),
+        iu1("iu1", 1, arch, g, frame, nullptr) {
     host.bind(gpp.host);
     gpp.bus.bind(bus.in);
     bus.out.bind(gpp.hits);

@@ -1,0 +1,37 @@
+#include "hw/dram.h"
+
+#include "hw/payloads.h"
+
+namespace oprt::hw {
+
+using namespace sc_core;
+
+Dram::Dram(const sc_module_name& name, const Arch& arch, std::size_t units)
+    : sc_module(name),
+      in("in"),
+      cycle_(arch.cycle_ns(), SC_NS),
+      latency_(cycle_ * static_cast<double>(arch.memory.dram.latency_cycles)),
+      transfer_(cycle_ * static_cast<double>((arch.memory.cache.line_bytes + arch.memory.dram.bytes_per_cycle - 1) /
+                                             arch.memory.dram.bytes_per_cycle)),
+      units_per_channel_(static_cast<std::uint32_t>(arch.memory.dram.units_per_channel)),
+      channels_((units + units_per_channel_ - 1) / units_per_channel_ + 1) {
+  in.register_b_transport(this, &Dram::b_transport);
+}
+
+void Dram::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
+  const auto* f = reinterpret_cast<const MemoryFillPacket*>(p.get_data_ptr());
+  const std::size_t channel = f->unit / units_per_channel_;
+  if (p.get_command() != tlm::TLM_READ_COMMAND || channel >= channels_.size()) {
+    p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
+    return;
+  }
+  Calendar<sc_time>& c = channels_[channel];
+  c.forget_before(sc_time_stamp());  // every requester's time is at or after simulation time
+  sc_time start;
+  const sc_time end = c.reserve(sc_time_stamp() + delay, transfer_, &start);
+  delay = end + latency_ - sc_time_stamp();
+  bytes_ += p.get_data_length();
+  p.set_response_status(tlm::TLM_OK_RESPONSE);
+}
+
+}  // namespace oprt::hw
