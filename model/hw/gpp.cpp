@@ -11,7 +11,7 @@ using namespace sc_core;
 
 template <typename T>
 Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
-            FunctionalFrame<T>& frame, VcdWriter* vcd)
+            FunctionalFrame<T>& frame, VcdWriter* vcd, TimelineWriter* timeline)
     : sc_module(name),
       host("host"),
       hits("hits"),
@@ -24,13 +24,16 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
       cycle_(arch.cycle_ns(), SC_NS),
       clock_(arch.level == Level::lt ? LocalClock::Mode::quantum : LocalClock::Mode::exact),
       sync_on_bus_(arch.bus.model == BusModel::shared && arch.bus.lt_arbitration == LtArbitration::sync),
-      vcd_(vcd) {
+      vcd_(vcd),
+      timeline_(timeline) {
   host.register_b_transport(this, &Gpp::host_transport);
   hits.register_b_transport(this, &Gpp::hit_transport);
   if (vcd_) {
     vcd_in_flight_ = vcd_->add(this->name(), "rays_in_flight", 32);
     vcd_frame_ = vcd_->add(this->name(), "frame", 32);
   }
+  if (timeline_ && (track_ = timeline_->track(this->name(), "gpp", "GPP")) == TimelineWriter::kNotTraced)
+    timeline_ = nullptr;
   SC_THREAD(run);
 }
 
@@ -126,7 +129,9 @@ void Gpp<T>::trace_in_flight() {
 template <typename T>
 void Gpp<T>::issue(std::uint32_t id) {
   clock_.advance_to(room_time());  // as at `at`: room first, then the ray is generated
+  const sc_time start = clock_.now();
   clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_ray));
+  if (timeline_) timeline_->slice(track_, "issue", start.value(), clock_.now().value(), {{"ray", id}});
   pending_[id].answers_left = units_;
   ++issued_;
   ++stats_.rays[static_cast<int>(frame_.rays[id].kind)];
@@ -182,7 +187,9 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
     if (!pr.hit.valid()) {
       finish_pixel(p, img);
     } else {
+      const sc_time start = clock_.now();
       clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_hit));
+      if (timeline_) timeline_->slice(track_, "shade", start.value(), clock_.now().value(), {{"ray", id}});
       img.z[p] = static_cast<float>(pr.hit.t);
       img.object[p] = pr.hit.object;
       img.prim[p] = pr.hit.prim;
@@ -297,6 +304,9 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     wait_for_space_or_answers(work && !room, next == never ? nullptr : &next);
   }
   stats_.end = clock_.now();
+  if (timeline_)
+    timeline_->slice(track_, "frame", stats_.start.value(), stats_.end.value(),
+                     {{"frame", static_cast<std::uint64_t>(cmd.frame)}, {"rays", issued_}});
 }
 
 template <typename T>

@@ -15,7 +15,7 @@ LocalClock::Mode unit_clock(const Arch& a) {
 
 template <typename T>
 IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const Arch& arch,
-                                      const FunctionalFrame<T>& frame, VcdWriter* vcd)
+                                      const FunctionalFrame<T>& frame, VcdWriter* vcd, TimelineWriter* timeline)
     : sc_module(name),
       cfg("cfg"),
       bus("bus"),
@@ -26,11 +26,16 @@ IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const 
       frame_(frame),
       cycle_(arch.cycle_ns(), SC_NS),
       triangle_bytes_(Bytes<T>::triangle(arch.kernel)),
+      trace_lead_(cycle_ * static_cast<double>(kTraceLeadCycles)),
       clock_(unit_clock(arch)),
       sync_on_bus_(arch.bus.model == BusModel::shared && arch.bus.lt_arbitration == LtArbitration::sync),
-      vcd_(vcd) {
+      vcd_(vcd),
+      timeline_(timeline) {
   cfg.register_b_transport(this, &IntersectionUnit::cfg_transport);
-  if (vcd_) vcd_state_ = vcd_->add(this->name(), "state", 3);
+  if (vcd_ && (vcd_state_ = vcd_->add(this->name(), "state", 3)) == VcdWriter::kNotTraced) vcd_ = nullptr;
+  if (timeline_ && (track_ = timeline_->track(this->name(), "state", "IU " + std::to_string(id))) ==
+                       TimelineWriter::kNotTraced)
+    timeline_ = nullptr;
   reset_stats();
   SC_THREAD(run);
 }
@@ -50,17 +55,30 @@ void IntersectionUnit<T>::cfg_transport(tlm::tlm_generic_payload& p, sc_time&) {
   p.set_response_status(tlm::TLM_OK_RESPONSE);
 }
 
+// The unit reports its own state in time order, so a report equal to the last one changes
+// nothing and is skipped (most rays are sphere tests only, back to back).
 template <typename T>
 void IntersectionUnit<T>::trace_state(UnitState s, const sc_time& at) {
+  if (s == traced_state_) return;
+  traced_state_ = s;
   vcd_->change(vcd_state_, at.value(), static_cast<std::uint64_t>(s));
 }
 
+namespace {
+constexpr const char* kPhaseName[] = {"idle", "sphere", "transform", "primitive", "stall", "box"};
+}
+
 template <typename T>
-void IntersectionUnit<T>::trace_phases(const UnitRayWork* w, sc_time at) {
+void IntersectionUnit<T>::trace_phases(std::uint32_t ray, const UnitRayWork* w, sc_time at) {
   const std::uint32_t transform = arch_.kernel_costs().transform;
   for_each_phase(frame_, w, static_cast<std::uint32_t>(id_), transform, [&](std::uint8_t state, std::uint64_t cycles) {
-    trace_state(static_cast<UnitState>(state), at);
-    at += cycle_ * static_cast<double>(cycles);
+    const sc_time end = at + cycle_ * static_cast<double>(cycles);
+    if (vcd_) trace_state(static_cast<UnitState>(state), at);
+    if (timeline_) {
+      if (w) timeline_->slice(track_, kPhaseName[state], at.value(), end.value(), {{"ray", ray}});
+      else timeline_->run_slice(track_, kPhaseName[state], at.value(), end.value(), ray);  // sphere tests only
+    }
+    at = end;
   });
 }
 
@@ -105,11 +123,14 @@ void IntersectionUnit<T>::run() {
     if (w)
       for (std::uint32_t i = w->first_visit; i < w->first_visit + w->visits; ++i)
         read_memory(frame_.units[unit].visits[i]);
-    if (vcd_) trace_phases(w, clock_.now());
+    if (vcd_ || timeline_) trace_phases(e.ray, w, clock_.now());
     const UnitCycles c = frame_.breakdown(w, unit);
     ++stats_.rays[kind];
     clock_.advance(cycle_ * static_cast<double>(c.busy() + c.stall));
     stats_.cycles += c;
+    // Running ahead, with the trace writer full: let the units behind catch up (vcd_writer.h).
+    if (vcd_ && clock_.mode() == LocalClock::Mode::ahead && clock_.offset() > trace_lead_ && vcd_->over_budget())
+      clock_.catch_up();
 
     // Answer the GPP. The unit waits for its transfer: time on the bus is a stall.
     AnswerPacket<T> a;
@@ -132,8 +153,10 @@ void IntersectionUnit<T>::run() {
     bus->b_transport(answer_, delay);
     if (answer_.is_response_error()) SC_REPORT_FATAL(name(), "answer to the GPP failed");
     clock_.advance_to(sim + delay);  // decoupled: the transfer's end; at: already waited
-    if (arch_.bus.model == BusModel::shared)
+    if (arch_.bus.model == BusModel::shared) {
       stats_.cycles.stall += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
+      if (timeline_) timeline_->slice(track_, "bus wait", before.value(), clock_.now().value(), {{"ray", e.ray}});
+    }
   }
 }
 
