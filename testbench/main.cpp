@@ -89,6 +89,10 @@ int main(int argc, char** argv) {
   render->add_option("--trace-window", ro.trace_window, "trace only simulated times T0:T1, e.g. 10us:2ms");
   render->add_option("--trace-units", ro.trace_units, "trace only these intersection units, e.g. 0-3,7");
   render->add_option("--trace-signals", ro.trace_signals, "trace only these signal groups: state,fifo,bus,gpp");
+  render->add_option("--trace-buffer", ro.trace_buffer,
+                     "value changes the --vcd writer may hold ahead of simulation time before units running ahead "
+                     "wait (default 262144, 16 bytes each)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 32));
   render->add_flag("!--no-progress", ro.progress, "no progress bar");
   add_threads(render);
   add_load_options(render, ro.load);

@@ -161,6 +161,12 @@ int run_render(const RenderOptions& o) {
   job.vcd_path = o.vcd;
   job.timeline_path = o.timeline;
   job.trace = trace_selection(o, job.frames);
+  if (o.trace_buffer) {
+    if (o.vcd.empty())
+      throw InputError("--trace-buffer", std::to_string(*o.trace_buffer),
+                       "sizes the --vcd writer's buffer, and --vcd is not given");
+    job.trace_budget = *o.trace_buffer;
+  }
   job.progress = o.progress && ::isatty(2);
   std::filesystem::create_directories(o.out);
   for (const std::string& f : {o.vcd, o.timeline})

@@ -138,18 +138,19 @@ class VcdFormat final : public WaveFormat {
   std::uint64_t last_ = 0;
 };
 
-// GTKWave's FST through its own writer. fstapi keeps a frame's value changes in memory until
-// it compresses them into a block (by default at 128 MB); blocks are closed here every
-// kBlockChanges changes instead, to keep the trace's memory bounded.
+// GTKWave's FST through its own writer. fstapi keeps value changes in memory until it
+// compresses them into a block (by default at 128 MB of them); blocks are closed here every
+// kBlockChanges changes instead: less memory, and on the room frame a smaller file too
+// (19.9 MB with 2^18, 22.4 MB with 2^21).
 class FstFormat final : public WaveFormat {
  public:
-  static constexpr std::uint64_t kBlockChanges = 1 << 21;
+  static constexpr std::uint64_t kBlockChanges = 1 << 18;
 
   explicit FstFormat(const std::string& file) : file_(file) {
     ctx_ = fstWriterCreate(file.c_str(), 1);
     if (!ctx_) throw std::runtime_error("cannot write " + file + ": " + std::strerror(errno));
     fstWriterSetTimescale(ctx_, -12);  // ps
-    fstWriterSetPackType(ctx_, FST_WR_PT_LZ4);
+    fstWriterSetPackType(ctx_, FST_WR_PT_ZLIB);  // half the size of LZ4's for about the same time
     fstWriterSetVersion(ctx_, "oprt");
   }
   ~FstFormat() override {

@@ -1741,7 +1741,7 @@ if(tmem)
         {
         unsigned long destlen = tlen;
         unsigned char *dmem = (unsigned char *)malloc(compressBound(destlen));
-        int rc = compress2(dmem, &destlen, tmem, tlen, 9);
+        int rc = compress2(dmem, &destlen, tmem, tlen, 4); /* oprt: was 9 (third_party/fstapi/README.md) */
 
         if((rc == Z_OK) && (((fst_off_t)destlen) < tlen))
                 {
