@@ -46,8 +46,6 @@ class VcdWriter::Output {
     for (const Var& v : vars) counter_.push_back(v.counter);
     value_.assign(vars.size(), 0);
     written_.assign(vars.size(), 0);
-    first_.assign(vars.size(), -1);
-    second_.assign(vars.size(), -1);
     thread_ = std::thread([this] { run(); });
   }
   ~Output() {  // abandoned: stop without writing what is queued
@@ -136,36 +134,40 @@ class VcdWriter::Output {
     last_time_ = at;
   }
 
-  // Each entry as a key (time - base) << 16 | variable, put in time order by one counting
+  // Each entry as a key (time - base) << 17 | segment, put in time order by one counting
   // pass over coarse time buckets and a sort within each bucket (a few keys); then each key
-  // applies its variable's entry and the file gets the values that changed. Linear in the
-  // entries, where a heap over the variables costs a logarithm and a mispredicted branch per
-  // level for each.
+  // applies its entry and the file gets the values that changed. Segments are in variable
+  // order, so keys of one time come in declaration order. Linear in the entries, where a
+  // heap over the variables costs a logarithm and a mispredicted branch per level for each.
   void merge(Batch& b) {
     if (b.begins) value_ = b.initial;
-    for (std::size_t i = 0; i < b.segments.size(); ++i) {
-      const int v = b.segments[i].var;
-      (first_[v] < 0 ? first_[v] : second_[v]) = static_cast<int>(i);
-    }
     cursor_.resize(b.segments.size());
     for (std::size_t i = 0; i < b.segments.size(); ++i) cursor_[i] = b.segments[i].begin;
-    for (;;) {
+    for (bool all = false; !all;) {
       std::uint64_t base = kNever;
       for (std::size_t i = 0; i < b.segments.size(); ++i)
         if (cursor_[i] < b.segments[i].end) base = std::min(base, b.entries[cursor_[i]].time);
       if (base == kNever) break;
       // A span too long for the key's 47 bits of time (hours of simulated time): in steps.
-      const std::uint64_t h = b.horizon - base > (std::uint64_t{1} << 47) ? base + (std::uint64_t{1} << 47) : b.horizon;
-      step(b, base, h);
+      all = b.horizon - base <= kSpan;
+      step(b, base, all ? b.horizon : base + kSpan, all);
     }
     if (!started_ && b.begins) begin_dump(b.from);
-    for (const auto& s : b.segments) first_[s.var] = second_[s.var] = -1;
   }
 
-  void step(Batch& b, std::uint64_t base, std::uint64_t h) {
+  static constexpr std::uint64_t kSpan = std::uint64_t{1} << 47;
+  static constexpr int kSegmentBits = 17;
+
+  void step(Batch& b, std::uint64_t base, std::uint64_t h, bool all) {
+    auto end_of = [&](std::size_t i) {  // the segment's entries before h
+      if (all) return b.segments[i].end;
+      std::size_t k = cursor_[i];
+      while (k < b.segments[i].end && b.entries[k].time < h) ++k;
+      return k;
+    };
+    ends_.resize(b.segments.size());
     std::size_t n = 0;
-    for (std::size_t i = 0; i < b.segments.size(); ++i)
-      for (std::size_t k = cursor_[i]; k < b.segments[i].end && b.entries[k].time < h; ++k) ++n;
+    for (std::size_t i = 0; i < b.segments.size(); ++i) n += (ends_[i] = end_of(i)) - cursor_[i];
     int bucket_bits = 0;
     while ((std::size_t{1} << bucket_bits) < n) ++bucket_bits;
     int span_bits = 0;
@@ -174,29 +176,29 @@ class VcdWriter::Output {
     const std::size_t buckets = std::size_t{1} << bucket_bits;
     starts_.assign(buckets + 1, 0);
     for (std::size_t i = 0; i < b.segments.size(); ++i)
-      for (std::size_t k = cursor_[i]; k < b.segments[i].end && b.entries[k].time < h; ++k)
-        ++starts_[((b.entries[k].time - base) >> shift) + 1];
+      for (std::size_t k = cursor_[i]; k < ends_[i]; ++k) ++starts_[((b.entries[k].time - base) >> shift) + 1];
     for (std::size_t k = 1; k <= buckets; ++k) starts_[k] += starts_[k - 1];
     keys_.resize(n);
     for (std::size_t i = 0; i < b.segments.size(); ++i)
-      for (std::size_t k = cursor_[i]; k < b.segments[i].end && b.entries[k].time < h; ++k) {
+      for (std::size_t k = cursor_[i]; k < ends_[i]; ++k) {
         const std::uint64_t dt = b.entries[k].time - base;
-        keys_[starts_[dt >> shift]++] = dt << 16 | static_cast<std::uint64_t>(b.segments[i].var);
+        keys_[starts_[dt >> shift]++] = dt << kSegmentBits | i;
       }
     for (std::size_t k = 0, begin = 0; k < buckets; begin = starts_[k++])
       if (starts_[k] - begin > 1)
         std::sort(keys_.begin() + static_cast<std::ptrdiff_t>(begin), keys_.begin() + static_cast<std::ptrdiff_t>(starts_[k]));
+    constexpr std::uint64_t kSegment = (std::uint64_t{1} << kSegmentBits) - 1;
     for (std::size_t i = 0; i < n;) {
-      const std::uint64_t dt = keys_[i] >> 16, t = base + dt;
+      const std::uint64_t dt = keys_[i] >> kSegmentBits, t = base + dt;
       if (!started_ && b.begins && t > b.from) begin_dump(b.from);
       bool stamped = false;
-      for (; i < n && keys_[i] >> 16 == dt; ++i) {
-        const int v = static_cast<int>(keys_[i] & 0xffff);
-        for (const int s : {first_[v], second_[v]}) {  // a counter's two lanes may both hold t
-          if (s < 0 || cursor_[s] == b.segments[s].end || b.entries[cursor_[s]].time != t) continue;
-          const std::uint64_t x = b.entries[cursor_[s]++].value;
-          value_[v] = counter_[v] ? value_[v] + x : x;
-        }
+      for (; i < n && keys_[i] >> kSegmentBits == dt; ++i) {
+        const std::size_t seg = keys_[i] & kSegment;
+        const int v = b.segments[seg].var;
+        const std::uint64_t x = b.entries[cursor_[seg]++].value;
+        value_[v] = counter_[v] ? value_[v] + x : x;
+        // A counter's other lane at the same time: the next key; write once, after both.
+        if (i + 1 < n && keys_[i + 1] >> kSegmentBits == dt && b.segments[keys_[i + 1] & kSegment].var == v) continue;
         if (!started_ || value_[v] == written_[v]) continue;  // before the dump: part of its first values
         if (!stamped) {
           format_->time(t);
@@ -221,9 +223,8 @@ class VcdWriter::Output {
   // Merge state (the output thread's own).
   std::vector<bool> counter_;
   std::vector<std::uint64_t> value_, written_;
-  std::vector<int> first_, second_;  // per variable: its segments in the batch
-  std::vector<std::size_t> cursor_;  // per segment: its next entry
-  std::vector<std::uint64_t> keys_;  // (time - base) << 16 | variable
+  std::vector<std::size_t> cursor_, ends_;  // per segment: its next entry, the end of this step's
+  std::vector<std::uint64_t> keys_;          // (time - base) << kSegmentBits | segment
   std::vector<std::size_t> starts_;  // per time bucket: where its keys go
   bool started_ = false;
   std::uint64_t last_time_ = 0;
@@ -332,10 +333,40 @@ bool VcdWriter::over_budget() {
   return pending_ > budget_;
 }
 
+std::size_t VcdWriter::count_before(std::uint64_t t) const {
+  std::size_t n = 0;
+  for (const Var& x : vars_)
+    for (const Lane& l : x.lanes) {
+      const auto first = l.e.begin() + static_cast<std::ptrdiff_t>(l.head);
+      n += static_cast<std::size_t>(
+          std::lower_bound(first, l.e.end(), t, [](const Entry& e, std::uint64_t v) { return e.time < v; }) - first);
+    }
+  return n;
+}
+
+// In batches of at most kMaxBatch entries (what the output holds is at most two batches):
+// a larger flush (a frame's end) is cut at earlier horizons.
 void VcdWriter::seal(std::uint64_t horizon, bool begin) {
   const std::uint64_t h = std::min(horizon, to_);
   if (h <= flushed_ && !(begin && !begun_)) return;
   if (!out_) first_change();
+  for (;;) {
+    std::uint64_t cut = h;
+    if (pending_ > kMaxBatch && count_before(h) > kMaxBatch) {
+      std::uint64_t lo = flushed_, hi = h;  // count_before(lo) <= kMaxBatch < count_before(hi)
+      while (hi - lo > 1) (count_before(lo + (hi - lo) / 2) <= kMaxBatch ? lo : hi) = lo + (hi - lo) / 2;
+      std::uint64_t earliest = kNever;  // at least one time per batch: a time holds at most two entries per variable
+      for (const Var& x : vars_)
+        for (const Lane& l : x.lanes)
+          if (!l.empty()) earliest = std::min(earliest, l.e[l.head].time);
+      cut = std::max(lo, earliest + 1);
+    }
+    hand_on(cut, begin && cut == h);
+    if (cut == h) return;
+  }
+}
+
+void VcdWriter::hand_on(std::uint64_t h, bool begin) {
   Batch b = out_->spare();
   b.horizon = std::max(h, flushed_);
   for (std::size_t v = 0; v < vars_.size(); ++v)

@@ -42,6 +42,7 @@ class VcdWriter {
   static constexpr std::uint64_t kNever = ~std::uint64_t{0};
   static constexpr std::size_t kFlushEvery = 1 << 16;  // new entries between flushes
   static constexpr std::size_t kDefaultBudget = 1 << 18;  // entries (16 bytes each)
+  static constexpr std::size_t kMaxBatch = 1 << 17;       // entries handed to the output at once
 
   explicit VcdWriter(std::string path);
   ~VcdWriter();  // without close(): the partial file is removed
@@ -124,6 +125,8 @@ class VcdWriter {
   void auto_flush();
   // Hand every entry before h to the output; `begin` forces the dump to begin (at close).
   void seal(std::uint64_t h, bool begin);
+  void hand_on(std::uint64_t h, bool begin);  // one batch
+  std::size_t count_before(std::uint64_t t) const;
 
   std::string path_, tmp_;
   std::unique_ptr<Output> out_;
