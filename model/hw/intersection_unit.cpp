@@ -129,7 +129,8 @@ void IntersectionUnit<T>::run() {
     clock_.advance(cycle_ * static_cast<double>(c.busy() + c.stall));
     stats_.cycles += c;
     // Running ahead, with the trace writer full: let the units behind catch up (vcd_writer.h).
-    if (vcd_ && clock_.mode() == LocalClock::Mode::ahead && clock_.offset() > trace_lead_ && vcd_->over_budget())
+    if (vcd_ && vcd_->full() && clock_.mode() == LocalClock::Mode::ahead && clock_.offset() > trace_lead_ &&
+        vcd_->over_budget())
       clock_.catch_up();
 
     // Answer the GPP. The unit waits for its transfer: time on the bus is a stall.

@@ -184,9 +184,15 @@ class VcdWriter::Output {
         const std::uint64_t dt = b.entries[k].time - base;
         keys_[starts_[dt >> shift]++] = dt << kSegmentBits | i;
       }
-    for (std::size_t k = 0, begin = 0; k < buckets; begin = starts_[k++])
-      if (starts_[k] - begin > 1)
+    for (std::size_t k = 0, begin = 0; k < buckets; begin = starts_[k++]) {
+      const std::size_t size = starts_[k] - begin;
+      if (size > 16) {
         std::sort(keys_.begin() + static_cast<std::ptrdiff_t>(begin), keys_.begin() + static_cast<std::ptrdiff_t>(starts_[k]));
+      } else {  // most buckets hold a key or two
+        for (std::size_t i = begin + 1; i < starts_[k]; ++i)
+          for (std::size_t j = i; j > begin && keys_[j] < keys_[j - 1]; --j) std::swap(keys_[j], keys_[j - 1]);
+      }
+    }
     constexpr std::uint64_t kSegment = (std::uint64_t{1} << kSegmentBits) - 1;
     for (std::size_t i = 0; i < n;) {
       const std::uint64_t dt = keys_[i] >> kSegmentBits, t = base + dt;

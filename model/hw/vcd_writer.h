@@ -74,6 +74,7 @@ class VcdWriter {
   // Holds more than its budget even after flushing to the horizon: a process running ahead
   // should let simulation time catch up.
   bool over_budget();
+  bool full() const { return pending_ > budget_; }  // over_budget() without trying to flush
 
   // Write every buffered change before `horizon_ps` (on the output thread; an output error
   // is rethrown here or by close).

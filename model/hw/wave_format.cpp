@@ -40,6 +40,17 @@ void walk_scopes(const std::vector<WaveVar>& vars, Open&& open, Close&& close, V
   for (std::size_t i = current.size(); i > 0; --i) close();
 }
 
+// "00000000" to "11111111".
+struct ByteBits {
+  char bits[256][8];
+  constexpr ByteBits() : bits() {
+    for (int v = 0; v < 256; ++v)
+      for (int b = 0; b < 8; ++b) bits[v][b] = static_cast<char>('0' + ((v >> (7 - b)) & 1));
+  }
+};
+constexpr ByteBits kByteBitsTable;
+constexpr const char (&kByteBits)[256][8] = kByteBitsTable.bits;
+
 // VCD text, written through one large buffer: no stream, no string per change.
 class VcdFormat final : public WaveFormat {
  public:
@@ -91,9 +102,14 @@ class VcdFormat final : public WaveFormat {
     if (width < 64) v &= (std::uint64_t{1} << width) - 1;
     if (width == 1) {
       *p++ = v ? '1' : '0';
-    } else {  // binary without leading zeros
+    } else {  // binary without leading zeros, a byte at a time
       *p++ = 'b';
-      for (int b = v ? 63 - __builtin_clzll(v) : 0; b >= 0; --b) *p++ = static_cast<char>('0' + ((v >> b) & 1));
+      int bits = v ? 64 - __builtin_clzll(v) : 1;
+      for (; bits % 8; --bits) *p++ = static_cast<char>('0' + ((v >> (bits - 1)) & 1));
+      for (; bits; bits -= 8) {
+        std::memcpy(p, kByteBits[(v >> (bits - 8)) & 0xff], 8);
+        p += 8;
+      }
       *p++ = ' ';
     }
     std::memcpy(p, code.data(), code.size());
