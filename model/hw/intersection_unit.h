@@ -69,7 +69,7 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   const std::uint32_t triangle_bytes_;
   // How far a unit running ahead may lead simulation time while the trace writer is over
   // its budget: the units behind keep going (no wait) until they lead by as much.
-  static constexpr std::uint64_t kTraceLeadCycles = std::uint64_t{1} << 16;
+  static constexpr std::uint64_t kTraceLeadCycles = std::uint64_t{1} << 13;
   const sc_core::sc_time trace_lead_;
   IuRegisters<T> regs_;
   UnitStats stats_;

@@ -388,6 +388,9 @@ void VcdWriter::hand_on(std::uint64_t h, bool begin) {
       if (2 * l.head >= l.e.size()) {  // drop the consumed half
         l.e.erase(l.e.begin(), l.e.begin() + static_cast<std::ptrdiff_t>(l.head));
         l.head = 0;
+        // and the room a lane no longer needs: lanes peak at different times, their
+        // capacities would add up to several times what is ever buffered at once
+        if (l.e.capacity() > 1024 && l.e.capacity() > 4 * l.e.size()) l.e.shrink_to_fit();
       }
     }
   if (!begun_ && (h > from_ || begin)) {
