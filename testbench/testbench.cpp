@@ -131,10 +131,19 @@ class Testbench : public sc_module {
 
  private:
   void close_trace(std::uint64_t end_ps) {
-    if (timeline_) timeline_->close();
+    if (timeline_) {
+      timeline_->close();
+      std::printf("timeline %s  %.1f MB  %llu slices\n", job_.timeline_path.c_str(),
+                  static_cast<double>(std::filesystem::file_size(job_.timeline_path)) / 1e6,
+                  static_cast<unsigned long long>(timeline_->slices()));
+    }
     if (!vcd_) return;
     const std::uint64_t from = vcd_->window_from();
     vcd_->close(end_ps);
+    std::printf("trace    %s  %.1f MB  %s to %s  (at most %zu changes held at once)\n", job_.vcd_path.c_str(),
+                static_cast<double>(std::filesystem::file_size(job_.vcd_path)) / 1e6,
+                format_time_ps(vcd_->dump_start()).c_str(), format_time_ps(vcd_->dump_end()).c_str(),
+                vcd_->peak_buffered());
     if (from >= end_ps && from != VcdWriter::kNever && end_ps > 0)
       std::fprintf(stderr, "oprt: warning: the trace window opens at %s, after the run ended (%s): %s holds no change\n",
                    format_time_ps(from).c_str(), format_time_ps(end_ps).c_str(), job_.vcd_path.c_str());
