@@ -151,7 +151,8 @@ int run_render(const RenderOptions& o) {
   if (job.arch.level == Level::analytic && !o.vcd.empty())
     throw InputError("--vcd", o.vcd, "the analytic level has no simulated signals to trace (use --level at or lt)");
   if (job.arch.level == Level::analytic && !o.timeline.empty())
-    throw InputError("--timeline", o.timeline, "the analytic level has no simulated transactions to trace (use --level at or lt)");
+    throw InputError("--timeline", o.timeline,
+                     "the analytic level has no simulated transactions to trace (use --level at or lt)");
   job.width = scene.width;
   job.height = scene.height;
   parse_resolution(o.resolution, job.width, job.height);

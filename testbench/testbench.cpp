@@ -77,14 +77,16 @@ class Testbench : public sc_module {
       FrameImage image(job_.width, job_.height);
       hw::FrameCommand cmd = frame_command(job_, f, image);
       const TraceSelection& sel = job_.trace;
-      if (sel.frames && f == sel.frames->first) set_trace_window(std::max<std::uint64_t>(sel.from_ps, sc_time_stamp().value()), sel.to_ps);
+      if (sel.frames && f == sel.frames->first)
+        set_trace_window(std::max<std::uint64_t>(sel.from_ps, sc_time_stamp().value()), sel.to_ps);
       engine_->run_frame(cmd);
       previous_ = collect();
       const FrameStats fs = frame_stats(*previous_, job_, geometry_, f, seconds_since(t0), image);
       finish_frame(job_, stats_.get(), fs, std::move(image));
       last_frame_end_ = sc_time_stamp().value();
       if (vcd_) vcd_->flush_before(last_frame_end_);
-      if (sel.frames && f == sel.frames->last) set_trace_window(trace_from_, std::min<std::uint64_t>(sel.to_ps, last_frame_end_));
+      if (sel.frames && f == sel.frames->last)
+        set_trace_window(trace_from_, std::min<std::uint64_t>(sel.to_ps, last_frame_end_));
     }
     close_trace(sc_time_stamp().value());
   }
@@ -97,13 +99,15 @@ class Testbench : public sc_module {
     const std::uint64_t from = sel.frames ? VcdWriter::kNever : sel.from_ps;
     if (!job_.vcd_path.empty()) {
       vcd_ = std::make_unique<VcdWriter>(job_.vcd_path);
-      vcd_->set_filter([&sel](const std::string& scope, const std::string& name) { return sel.traces_signal(scope, name); });
+      vcd_->set_filter(
+          [&sel](const std::string& scope, const std::string& name) { return sel.traces_signal(scope, name); });
       vcd_->set_horizon([] { return sc_time_stamp().value(); });
       vcd_->set_budget(job_.trace_budget);
     }
     if (!job_.timeline_path.empty()) {
       timeline_ = std::make_unique<TimelineWriter>(job_.timeline_path);
-      timeline_->set_filter([&sel](const std::string& scope, const std::string& group) { return sel.traces(scope, group); });
+      timeline_->set_filter(
+          [&sel](const std::string& scope, const std::string& group) { return sel.traces(scope, group); });
     }
     set_trace_window(from, sel.to_ps);
   }
@@ -145,7 +149,8 @@ class Testbench : public sc_module {
                 format_time_ps(vcd_->dump_start()).c_str(), format_time_ps(vcd_->dump_end()).c_str(),
                 vcd_->peak_buffered());
     if (from >= end_ps && from != VcdWriter::kNever && end_ps > 0)
-      std::fprintf(stderr, "oprt: warning: the trace window opens at %s, after the run ended (%s): %s holds no change\n",
+      std::fprintf(stderr,
+                   "oprt: warning: the trace window opens at %s, after the run ended (%s): %s holds no change\n",
                    format_time_ps(from).c_str(), format_time_ps(end_ps).c_str(), job_.vcd_path.c_str());
     const auto vcd = std::filesystem::path(job_.vcd_path);
     std::vector<TraceSignal> signals;

@@ -187,7 +187,8 @@ class VcdWriter::Output {
     for (std::size_t k = 0, begin = 0; k < buckets; begin = starts_[k++]) {
       const std::size_t size = starts_[k] - begin;
       if (size > 16) {
-        std::sort(keys_.begin() + static_cast<std::ptrdiff_t>(begin), keys_.begin() + static_cast<std::ptrdiff_t>(starts_[k]));
+        std::sort(keys_.begin() + static_cast<std::ptrdiff_t>(begin),
+                  keys_.begin() + static_cast<std::ptrdiff_t>(starts_[k]));
       } else {  // most buckets hold a key or two
         for (std::size_t i = begin + 1; i < starts_[k]; ++i)
           for (std::size_t j = i; j > begin && keys_[j] < keys_[j - 1]; --j) std::swap(keys_[j], keys_[j - 1]);
@@ -378,7 +379,8 @@ void VcdWriter::hand_on(std::uint64_t h, bool begin) {
   for (std::size_t v = 0; v < vars_.size(); ++v)
     for (Lane& l : vars_[v].lanes) {
       const auto first = l.e.begin() + static_cast<std::ptrdiff_t>(l.head);
-      const auto end = std::lower_bound(first, l.e.end(), h, [](const Entry& e, std::uint64_t t) { return e.time < t; });
+      const auto end =
+          std::lower_bound(first, l.e.end(), h, [](const Entry& e, std::uint64_t t) { return e.time < t; });
       if (end == first) continue;
       const std::size_t at = b.entries.size();
       b.entries.insert(b.entries.end(), first, end);
@@ -418,7 +420,8 @@ void VcdWriter::fold_before(std::uint64_t t) {
 void VcdWriter::set_window(std::uint64_t from, std::uint64_t to) {
   if (from >= from_ ? from != from_ && begun_ : begun_ || (any_folded_ && latest_folded_ > from))
     throw std::logic_error("VcdWriter: the window cannot start at " + std::to_string(from) + " ps any more");
-  if (to > to_ && changed_) throw std::logic_error("VcdWriter: the window can only end earlier once changes are reported");
+  if (to > to_ && changed_)
+    throw std::logic_error("VcdWriter: the window can only end earlier once changes are reported");
   if (to < to_) discard_from(to);
   to_ = to;
   if (from > from_) fold_before(from);
