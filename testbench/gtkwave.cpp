@@ -1,6 +1,7 @@
 #include "gtkwave.h"
 
 #include "ref/image.h"
+#include "trace_select.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,8 +26,8 @@ bool ends_with(const std::string& s, const std::string& tail) {
 }
 }  // namespace
 
-void write_gtkwave_save(const std::string& vcd_path, const std::string& save_path,
-                        const std::vector<TraceSignal>& signals, std::uint64_t end_ps) {
+void write_gtkwave_save(const std::string& trace_path, const std::string& save_path,
+                        const std::vector<TraceSignal>& signals, std::uint64_t start_ps, std::uint64_t end_ps) {
   namespace fs = std::filesystem;
   const fs::path save = fs::absolute(save_path);
   const fs::path filter = save.parent_path() / (save.stem().string() + "_state.txt");
@@ -42,28 +43,27 @@ void write_gtkwave_save(const std::string& vcd_path, const std::string& save_pat
     const std::string& s = sig.name;
     // GTKWave names a vector with its bit range.
     const std::string full = sig.width > 1 ? s + "[" + std::to_string(sig.width - 1) + ":0]" : s;
-    if (s.find(".gpp.") != std::string::npos) gpp.push_back(full);
-    else if (s.find(".bus.") != std::string::npos) bus.push_back(full);
-    else {
-      for (const char* kind : {".iu", ".fifo", ".memory"}) {
-        const auto at = s.find(kind);
-        if (at == std::string::npos) continue;
-        unit[std::stoi(s.substr(at + std::string(kind).size()))].push_back(full);
-      }
-    }
+    const auto dot = s.rfind('.');
+    const SignalKind k = classify_signal(dot == std::string::npos ? "" : s.substr(0, dot), s.substr(dot + 1));
+    if (k.unit >= 0) unit[k.unit].push_back(full);
+    else if (k.group == "bus") bus.push_back(full);
+    else gpp.push_back(full);
   }
   write_atomically(save.string(), [&](const std::string& tmp) {
     std::ofstream g(tmp);
     g << "[*] oprt trace: GPP, bus, and per intersection unit its state and ray FIFO occupancy\n";
-    g << "[dumpfile] \"" << fs::absolute(vcd_path).string() << "\"\n";
-    g << "[savefile] \"" << save.string() << "\"\n[timestart] 0\n[sst_expanded] 1\n";
+    g << "[dumpfile] \"" << fs::absolute(trace_path).string() << "\"\n";
+    g << "[savefile] \"" << save.string() << "\"\n[timestart] " << start_ps << "\n[sst_expanded] 1\n";
     // GTKWave's zoom is -log2(time units per pixel): fit the whole trace in the window (GTKWave counts zoom against a
     // narrower reference width than the window; 250 was found by looking).
-    g << "*" << -std::log2(std::max<double>(1.0, static_cast<double>(end_ps) / 250)) << " 0\n";
-    g << kGroupBegin << "\n-GPP and bus\n";
-    for (const auto& s : gpp) g << kDec << "\n" << s << "\n";
-    for (const auto& s : bus) g << kBit << "\n" << s << "\n";
-    g << kGroupEnd << "\n-GPP and bus\n";
+    const double span = static_cast<double>(end_ps > start_ps ? end_ps - start_ps : 1);
+    g << "*" << -std::log2(std::max<double>(1.0, span / 250)) << " " << start_ps << "\n";
+    if (!gpp.empty() || !bus.empty()) {
+      g << kGroupBegin << "\n-GPP and bus\n";
+      for (const auto& s : gpp) g << kDec << "\n" << s << "\n";
+      for (const auto& s : bus) g << kBit << "\n" << s << "\n";
+      g << kGroupEnd << "\n-GPP and bus\n";
+    }
     for (const auto& [u, sigs] : unit) {
       const std::string name = "IU " + std::to_string(u);
       g << kGroupBegin << "\n-" << name << "\n";

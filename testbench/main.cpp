@@ -92,7 +92,17 @@ int main(int argc, char** argv) {
   render->add_option("--precision", ro.precision, "float | double")->check(CLI::IsMember({"float", "double"}));
   render->add_option("--resolution", ro.resolution, "WxH; default: the scene's");
   render->add_option("--out", ro.out, "output directory");
-  render->add_option("--vcd", ro.vcd, "write a VCD trace to this file");
+  render->add_option("--vcd", ro.vcd, "write a waveform trace to this file: VCD, or GTKWave's FST if it ends in .fst");
+  render->add_option("--timeline", ro.timeline,
+                     "write a transaction timeline to this file (Chrome trace-event JSON, for ui.perfetto.dev)");
+  render->add_option("--trace-frames", ro.trace_frames, "trace only frames N or A:B (inclusive)");
+  render->add_option("--trace-window", ro.trace_window, "trace only simulated times T0:T1, e.g. 10us:2ms");
+  render->add_option("--trace-units", ro.trace_units, "trace only these intersection units, e.g. 0-3,7");
+  render->add_option("--trace-signals", ro.trace_signals, "trace only these signal groups: state,fifo,bus,gpp,memory");
+  render->add_option("--trace-buffer", ro.trace_buffer,
+                     "value changes the --vcd writer may hold ahead of simulation time before units running ahead "
+                     "wait (default 262144, 16 bytes each)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 32));
   render->add_flag("!--no-progress", ro.progress, "no progress bar");
   add_threads(render);
   add_load_options(render, ro.load, ro.split, ro.max_object_triangles);

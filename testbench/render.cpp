@@ -47,6 +47,23 @@ Arch resolve_arch(const RenderOptions& o) {
 
 namespace {
 
+// --trace-*: only with something to trace.
+TraceSelection trace_selection(const RenderOptions& o, const FrameRange& rendered) {
+  TraceSelection t;
+  const std::pair<const char*, const std::optional<std::string>*> options[] = {{"--trace-frames", &o.trace_frames},
+                                                                              {"--trace-window", &o.trace_window},
+                                                                              {"--trace-units", &o.trace_units},
+                                                                              {"--trace-signals", &o.trace_signals}};
+  for (const auto& [option, value] : options)
+    if (*value && o.vcd.empty() && o.timeline.empty())
+      throw InputError(option, **value, "selects what --vcd or --timeline traces, and neither is given");
+  if (o.trace_frames) t.frames = parse_trace_frames(*o.trace_frames, rendered);
+  if (o.trace_window) parse_trace_window(*o.trace_window, t.from_ps, t.to_ps);
+  if (o.trace_units) t.units = parse_trace_units(*o.trace_units);
+  if (o.trace_signals) t.groups = parse_trace_signals(*o.trace_signals);
+  return t;
+}
+
 // Per sphere its BVH nodes' box areas and leaf sizes, for the sa_n weights.
 template <typename T>
 std::vector<std::vector<NodeArea>> node_areas(const SceneGeometry<T>& g) {
@@ -90,6 +107,7 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
                            {"center", {d.local.c.x, d.local.c.y, d.local.c.z}}, {"sa_n", d.sa_n()},
                            {"sa_n_weight", weights[s]}, {"bvh_nodes", geometry.nodes_in(static_cast<std::uint32_t>(s))}});
   }
+  if (o.trace_units) check_trace_units(*o.trace_units, job.trace.units, units);
   job.header = {{"scene", o.scene},
                 {"sphere_list", sphere_info},
                 {"triangles", scene.triangle_count()},
@@ -143,6 +161,9 @@ int run_render(const RenderOptions& o) {
   job.scene = &scene;
   if (job.arch.level == Level::analytic && !o.vcd.empty())
     throw InputError("--vcd", o.vcd, "the analytic level has no simulated signals to trace (use --level at or lt)");
+  if (job.arch.level == Level::analytic && !o.timeline.empty())
+    throw InputError("--timeline", o.timeline,
+                     "the analytic level has no simulated transactions to trace (use --level at or lt)");
   job.width = scene.width;
   job.height = scene.height;
   parse_resolution(o.resolution, job.width, job.height);
@@ -150,10 +171,19 @@ int run_render(const RenderOptions& o) {
   check_motions(scene, job.frames.first, job.frames.last);
   job.out_dir = o.out;
   job.vcd_path = o.vcd;
+  job.timeline_path = o.timeline;
+  job.trace = trace_selection(o, job.frames);
+  if (o.trace_buffer) {
+    if (o.vcd.empty())
+      throw InputError("--trace-buffer", std::to_string(*o.trace_buffer),
+                       "sizes the --vcd writer's buffer, and --vcd is not given");
+    job.trace_budget = *o.trace_buffer;
+  }
   job.progress = o.progress && ::isatty(2);
   std::filesystem::create_directories(o.out);
-  if (!o.vcd.empty() && std::filesystem::path(o.vcd).has_parent_path())
-    std::filesystem::create_directories(std::filesystem::path(o.vcd).parent_path());
+  for (const std::string& f : {o.vcd, o.timeline})
+    if (!f.empty() && std::filesystem::path(f).has_parent_path())
+      std::filesystem::create_directories(std::filesystem::path(f).parent_path());
   return job.arch.precision == "double" ? render<double>(o, scene, job) : render<float>(o, scene, job);
 }
 

@@ -14,7 +14,9 @@
 namespace oprt {
 
 struct RenderOptions {
-  std::string scene, arch_file, frames, resolution, out = "out", vcd;
+  std::string scene, arch_file, frames, resolution, out = "out", vcd, timeline;
+  std::optional<std::string> trace_frames, trace_window, trace_units, trace_signals;  // what the traces hold
+  std::optional<std::size_t> trace_buffer;  // changes the waveform writer may hold
   std::optional<int> ius, subdivide;
   std::optional<std::string> level, quantum, balance, accel, top, kernel, precision, sram;
   bool progress = true;  // on a terminal only

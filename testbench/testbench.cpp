@@ -7,6 +7,7 @@
 #include "ref/frame_setup.h"
 #include "ref/stop.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -38,9 +39,9 @@ class Testbench : public sc_module {
   SC_HAS_PROCESS(Testbench);
   Testbench(const sc_module_name& name, RenderJob& job, SceneGeometry<T>& geometry)
       : sc_module(name), job_(job), geometry_(geometry) {
-    if (!job.vcd_path.empty()) vcd_ = std::make_unique<VcdWriter>(job.vcd_path);
+    open_traces();
     engine_ = std::make_unique<hw::Engine<T>>("engine", *job.scene, geometry, job.arch, job.assignment.units(),
-                                              vcd_.get());
+                                              vcd_.get(), timeline_.get());
     engine_->assign(job.assignment);
     policy_ = std::make_unique<PolicyDriver<T>>(*job.scene, geometry, job.arch, job.assignment, job.width, job.height);
     if (job.progress)
@@ -75,34 +76,87 @@ class Testbench : public sc_module {
       }
       FrameImage image(job_.width, job_.height);
       hw::FrameCommand cmd = frame_command(job_, f, image);
+      const TraceSelection& sel = job_.trace;
+      if (sel.frames && f == sel.frames->first)
+        set_trace_window(std::max<std::uint64_t>(sel.from_ps, sc_time_stamp().value()), sel.to_ps);
       engine_->run_frame(cmd);
       previous_ = collect();
       const FrameStats fs = frame_stats(*previous_, job_, geometry_, f, seconds_since(t0), image);
       finish_frame(job_, stats_.get(), fs, std::move(image));
       last_frame_end_ = sc_time_stamp().value();
       if (vcd_) vcd_->flush_before(last_frame_end_);
+      if (sel.frames && f == sel.frames->last)
+        set_trace_window(trace_from_, std::min<std::uint64_t>(sel.to_ps, last_frame_end_));
     }
     close_trace(sc_time_stamp().value());
+  }
+
+  // The waveform and the timeline, with what --trace-* selects. With --trace-frames the
+  // window opens when the first traced frame starts (set_trace_window) and closes when the
+  // last one ends; every signal is at its rest value between frames, so nothing before is lost.
+  void open_traces() {
+    const TraceSelection& sel = job_.trace;
+    const std::uint64_t from = sel.frames ? VcdWriter::kNever : sel.from_ps;
+    if (!job_.vcd_path.empty()) {
+      vcd_ = std::make_unique<VcdWriter>(job_.vcd_path);
+      vcd_->set_filter(
+          [&sel](const std::string& scope, const std::string& name) { return sel.traces_signal(scope, name); });
+      vcd_->set_horizon([] { return sc_time_stamp().value(); });
+      vcd_->set_budget(job_.trace_budget);
+    }
+    if (!job_.timeline_path.empty()) {
+      timeline_ = std::make_unique<TimelineWriter>(job_.timeline_path);
+      timeline_->set_filter(
+          [&sel](const std::string& scope, const std::string& group) { return sel.traces(scope, group); });
+    }
+    set_trace_window(from, sel.to_ps);
+  }
+
+  void set_trace_window(std::uint64_t from, std::uint64_t to) {
+    trace_from_ = from;
+    if (vcd_) vcd_->set_window(from, to);
+    if (timeline_) timeline_->set_window(from, to);
   }
 
  public:
   // After a stop request ended the simulation mid-frame: the trace ends with the last
   // completed frame (without one, the destructor removes the partial trace).
+  // The waveform may have been written past that, up to the simulation time it reached
+  // (it is flushed within frames): it ends there.
   void stopped() {
-    if (job_.completed == 0 || !vcd_) return;
-    vcd_->discard_from(last_frame_end_);
-    close_trace(last_frame_end_);
+    if (job_.completed == 0) return;
+    std::uint64_t end = last_frame_end_;
+    if (vcd_) {
+      end = std::max(end, vcd_->flushed());
+      vcd_->discard_from(end);
+    }
+    close_trace(end);
   }
 
  private:
   void close_trace(std::uint64_t end_ps) {
+    if (timeline_) {
+      timeline_->close();
+      std::printf("timeline %s  %.1f MB  %llu slices\n", job_.timeline_path.c_str(),
+                  static_cast<double>(std::filesystem::file_size(job_.timeline_path)) / 1e6,
+                  static_cast<unsigned long long>(timeline_->slices()));
+    }
     if (!vcd_) return;
+    const std::uint64_t from = vcd_->window_from();
     vcd_->close(end_ps);
+    std::printf("trace    %s  %.1f MB  %s to %s  (at most %zu changes held at once)\n", job_.vcd_path.c_str(),
+                static_cast<double>(std::filesystem::file_size(job_.vcd_path)) / 1e6,
+                format_time_ps(vcd_->dump_start()).c_str(), format_time_ps(vcd_->dump_end()).c_str(),
+                vcd_->peak_buffered());
+    if (from >= end_ps && from != VcdWriter::kNever && end_ps > 0)
+      std::fprintf(stderr,
+                   "oprt: warning: the trace window opens at %s, after the run ended (%s): %s holds no change\n",
+                   format_time_ps(from).c_str(), format_time_ps(end_ps).c_str(), job_.vcd_path.c_str());
     const auto vcd = std::filesystem::path(job_.vcd_path);
     std::vector<TraceSignal> signals;
     for (const auto& [name, width] : vcd_->variables()) signals.push_back({name, width});
     write_gtkwave_save(job_.vcd_path, (vcd.parent_path() / (vcd.stem().string() + ".gtkw")).string(), signals,
-                       end_ps);
+                       vcd_->dump_start(), vcd_->dump_end());
   }
 
   void reset_stats() {
@@ -166,7 +220,9 @@ class Testbench : public sc_module {
   const bool deforming_ = has_deforming(*job_.scene);
   int frame_ = 0;
   std::uint64_t last_frame_end_ = 0;  // ps
+  std::uint64_t trace_from_ = 0;      // ps: where the trace window opens
   std::unique_ptr<VcdWriter> vcd_;
+  std::unique_ptr<TimelineWriter> timeline_;
   std::unique_ptr<hw::Engine<T>> engine_;
   std::unique_ptr<StatsWriter> stats_;
   std::unique_ptr<PolicyDriver<T>> policy_;

@@ -7,6 +7,7 @@
 #include "hw/engine.h"
 #include "options.h"
 #include "stats.h"
+#include "trace_select.h"
 
 #include <chrono>
 #include <exception>
@@ -21,7 +22,9 @@ struct RenderJob {
   Arch arch;
   FrameRange frames;
   int width = 0, height = 0;
-  std::string out_dir, vcd_path;
+  std::string out_dir, vcd_path, timeline_path;
+  TraceSelection trace;  // what --vcd and --timeline hold
+  std::size_t trace_budget = VcdWriter::kDefaultBudget;  // changes the waveform writer may buffer
   Assignment assignment;
   bool progress = false;
   nlohmann::json header;  // resolved configuration, for stats.json

@@ -6,7 +6,7 @@ namespace oprt::hw {
 
 using namespace sc_core;
 
-Bus::Bus(const sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter* vcd)
+Bus::Bus(const sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter* vcd, TimelineWriter* timeline)
     : sc_module(name),
       in("in"),
       out("out"),
@@ -16,18 +16,21 @@ Bus::Bus(const sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter
       arbitration_cycles_(arch.bus.arbitration_cycles),
       cycle_(arch.cycle_ns(), SC_NS),
       arbiter_(decoupled && arch.bus.lt_arbitration == LtArbitration::busy_until),
-      vcd_(vcd) {
+      vcd_(vcd),
+      timeline_(timeline) {
   in.register_b_transport(this, &Bus::b_transport);
   if (vcd_) vcd_busy_ = vcd_->add(this->name(), "busy", 1);
+  if (timeline_ && (track_ = timeline_->track(this->name(), "bus", "bus")) == TimelineWriter::kNotTraced)
+    timeline_ = nullptr;
 }
 
-void Bus::map(std::uint64_t base, std::uint64_t size, std::vector<int> targets) {
+void Bus::map(std::uint64_t base, std::uint64_t size, std::vector<int> targets, const char* what) {
   auto at = std::upper_bound(regions_.begin(), regions_.end(), base,
                              [](std::uint64_t b, const Region& r) { return b < r.base; });
   if ((at != regions_.end() && base + size > at->base) ||
       (at != regions_.begin() && std::prev(at)->base + std::prev(at)->size > base))
     SC_REPORT_FATAL(name(), "overlapping address regions");
-  regions_.insert(at, {base, size, std::move(targets)});
+  regions_.insert(at, {base, size, std::move(targets), what});
   last_ = ~std::size_t{0};
 }
 
@@ -57,6 +60,7 @@ void Bus::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
       vcd_->change(vcd_busy_, start.value(), 1);
       vcd_->change(vcd_busy_, end.value(), 0);
     }
+    if (timeline_) timeline_->slice(track_, r->what, start.value(), end.value(), {{"bytes", p.get_data_length()}});
     if (decoupled_) {
       delay = end - sc_time_stamp();
     } else {

@@ -26,6 +26,7 @@
 
 #include "hw/arch.h"
 #include "hw/calendar.h"
+#include "hw/timeline.h"
 #include "hw/vcd_writer.h"
 
 #include <cstdint>
@@ -43,10 +44,12 @@ class Bus : public sc_core::sc_module {
   tlm_utils::multi_passthrough_target_socket<Bus> in;      // from the GPP and the units
   tlm_utils::multi_passthrough_initiator_socket<Bus> out;  // to the targets, by map index
 
-  Bus(const sc_core::sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter* vcd);
+  Bus(const sc_core::sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter* vcd,
+      TimelineWriter* timeline = nullptr);
 
   // [base, base + size) goes to out[targets...]; more than one target is a multicast.
-  void map(std::uint64_t base, std::uint64_t size, std::vector<int> targets);
+  // `what` names its transfers in the timeline ("ray", "answer", ...).
+  void map(std::uint64_t base, std::uint64_t size, std::vector<int> targets, const char* what = "transfer");
 
   std::uint64_t busy_cycles() const { return busy_cycles_; }
   std::uint64_t transfers() const { return transfers_; }
@@ -57,6 +60,7 @@ class Bus : public sc_core::sc_module {
   struct Region {
     std::uint64_t base, size;
     std::vector<int> targets;
+    const char* what;
   };
   void b_transport(int from, tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
 
@@ -69,6 +73,8 @@ class Bus : public sc_core::sc_module {
   std::uint64_t busy_cycles_ = 0, transfers_ = 0, bytes_ = 0;
   VcdWriter* vcd_;
   int vcd_busy_ = -1;
+  TimelineWriter* timeline_;  // null when not traced
+  int track_ = -1;
 };
 
 }  // namespace oprt::hw

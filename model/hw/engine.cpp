@@ -8,25 +8,25 @@ using namespace sc_core;
 
 template <typename T>
 Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
-                  std::size_t units, VcdWriter* vcd)
+                  std::size_t units, VcdWriter* vcd, TimelineWriter* timeline)
     : sc_module(name), host("host") {
   const bool decoupled = arch.level == Level::lt;
-  gpp_ = std::make_unique<Gpp<T>>("gpp", scene, geometry, arch, frame_, vcd);
-  bus_ = std::make_unique<Bus>("bus", arch, decoupled, vcd);
+  gpp_ = std::make_unique<Gpp<T>>("gpp", scene, geometry, arch, frame_, vcd, timeline);
+  bus_ = std::make_unique<Bus>("bus", arch, decoupled, vcd, timeline);
   dram_ = std::make_unique<Dram>("dram", arch, units);
   const bool fill_over_bus = arch.memory.dram.path == DramPath::bus;
   host.bind(gpp_->host);
   gpp_->bus.bind(bus_->in);
   bus_->out.bind(gpp_->hits);
-  bus_->map(addr::gpp_hits, addr::region_size, {0});
+  bus_->map(addr::gpp_hits, addr::region_size, {0}, "answer");
   std::vector<int> every_fifo;
   for (std::size_t i = 0; i < units; ++i) {
     const std::string n = std::to_string(i);
     fifos_.push_back(std::make_unique<RayFifo>(("fifo" + n).c_str(), arch.fifo_depth, vcd));
     memories_.push_back(
         std::make_unique<ObjectMemory>(("memory" + n).c_str(), static_cast<int>(i), arch, geometry.sphere_count(), vcd));
-    units_.push_back(
-        std::make_unique<IntersectionUnit<T>>(("iu" + n).c_str(), static_cast<int>(i), arch, geometry, frame_, vcd));
+    units_.push_back(std::make_unique<IntersectionUnit<T>>(("iu" + n).c_str(), static_cast<int>(i), arch, geometry,
+                                                             frame_, vcd, timeline));
     IntersectionUnit<T>& u = *units_.back();
     u.bus.bind(bus_->in);
     u.mem.bind(memories_.back()->read);
@@ -39,15 +39,15 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
     bus_->out.bind(fifos_.back()->in);
     const int base = 1 + 3 * static_cast<int>(i);
     const std::uint64_t w = addr::iu_window(static_cast<int>(i));
-    bus_->map(w + addr::iu_config, addr::iu_memory - addr::iu_config, {base});
-    bus_->map(w + addr::iu_memory, addr::iu_ray_fifo - addr::iu_memory, {base + 1});
-    bus_->map(w + addr::iu_ray_fifo, addr::iu_stride - addr::iu_ray_fifo, {base + 2});
+    bus_->map(w + addr::iu_config, addr::iu_memory - addr::iu_config, {base}, "config");
+    bus_->map(w + addr::iu_memory, addr::iu_ray_fifo - addr::iu_memory, {base + 1}, "memory load");
+    bus_->map(w + addr::iu_ray_fifo, addr::iu_stride - addr::iu_ray_fifo, {base + 2}, "ray");
     every_fifo.push_back(base + 2);
   }
-  bus_->map(addr::broadcast_rays, addr::region_size, every_fifo);
+  bus_->map(addr::broadcast_rays, addr::region_size, every_fifo, "ray");
   if (fill_over_bus) {
     bus_->out.bind(dram_->in);
-    bus_->map(addr::dram, addr::region_size, {1 + 3 * static_cast<int>(units)});
+    bus_->map(addr::dram, addr::region_size, {1 + 3 * static_cast<int>(units)}, "cache fill");
   }
 }
 

@@ -35,7 +35,7 @@ class Engine : public sc_core::sc_module {
   tlm_utils::simple_initiator_socket<Engine> host;  // the testbench's frame commands go here
 
   Engine(const sc_core::sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
-         std::size_t units, VcdWriter* vcd);
+         std::size_t units, VcdWriter* vcd, TimelineWriter* timeline = nullptr);
 
   // Run one frame to completion; call from an SC_THREAD (the testbench's).
   void run_frame(FrameCommand& cmd);

@@ -11,7 +11,7 @@ using namespace sc_core;
 
 template <typename T>
 Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
-            FunctionalFrame<T>& frame, VcdWriter* vcd)
+            FunctionalFrame<T>& frame, VcdWriter* vcd, TimelineWriter* timeline)
     : sc_module(name),
       host("host"),
       hits("hits"),
@@ -24,7 +24,8 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
       cycle_(arch.cycle_ns(), SC_NS),
       clock_(arch.level == Level::lt ? LocalClock::Mode::quantum : LocalClock::Mode::exact),
       sync_on_bus_(arch.bus.model == BusModel::shared && arch.bus.lt_arbitration == LtArbitration::sync),
-      vcd_(vcd) {
+      vcd_(vcd),
+      timeline_(timeline) {
   host.register_b_transport(this, &Gpp::host_transport);
   hits.register_b_transport(this, &Gpp::hit_transport);
   if (vcd_) {
@@ -32,6 +33,8 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
     vcd_frame_ = vcd_->add(this->name(), "frame", 32);
     if (arch.top_tree()) vcd_refit_ = vcd_->add(this->name(), "refit", 1);
   }
+  if (timeline_ && (track_ = timeline_->track(this->name(), "gpp", "GPP")) == TimelineWriter::kNotTraced)
+    timeline_ = nullptr;
   SC_THREAD(run);
 }
 
@@ -127,7 +130,9 @@ void Gpp<T>::trace_in_flight() {
 template <typename T>
 void Gpp<T>::issue(std::uint32_t id) {
   clock_.advance_to(room_time());  // as at `at`: room first, then the ray is generated
+  const sc_time start = clock_.now();
   clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_ray));
+  if (timeline_) timeline_->slice(track_, "issue", start.value(), clock_.now().value(), {{"ray", id}});
   pending_[id].answers_left = units_;
   ++issued_;
   ++stats_.rays[static_cast<int>(frame_.rays[id].kind)];
@@ -183,7 +188,9 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
     if (!pr.hit.valid()) {
       finish_pixel(p, img);
     } else {
+      const sc_time start = clock_.now();
       clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_hit));
+      if (timeline_) timeline_->slice(track_, "shade", start.value(), clock_.now().value(), {{"ray", id}});
       img.z[p] = static_cast<float>(pr.hit.t);
       img.object[p] = pr.hit.object;
       img.prim[p] = pr.hit.prim;
@@ -257,9 +264,11 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   }
   if (stats_.refit_nodes) {
     stats_.refit_cycles = stats_.refit_nodes * static_cast<std::uint64_t>(arch_.gpp.cycles_per_node);
-    if (vcd_) vcd_->change(vcd_refit_, clock_.now().value(), 1);
+    const sc_time start = clock_.now();
+    if (vcd_) vcd_->change(vcd_refit_, start.value(), 1);
     clock_.advance(cycle_ * static_cast<double>(stats_.refit_cycles));
     if (vcd_) vcd_->change(vcd_refit_, clock_.now().value(), 0);
+    if (timeline_) timeline_->slice(track_, "refit", start.value(), clock_.now().value(), {{"nodes", stats_.refit_nodes}});
   }
   for (unsigned u = 0; u < units_; ++u) {
     ConfigPacket<T> packet{&registers_[u], cached_[u] != 0};
@@ -275,7 +284,8 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   try {
     // The records' detail for the waveform's phases, and for caches, which time each visit.
     const bool caches = std::find(cached_.begin(), cached_.end(), 1) != cached_.end();
-    trace_functional(frame_, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height, vcd_ != nullptr || caches);
+    trace_functional(frame_, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height,
+                     vcd_ != nullptr || timeline_ != nullptr || caches);
   } catch (const Interrupted&) {  // SIGINT / SIGTERM: abandon the frame; the testbench says what completed
     sc_stop();
     wait(abandoned_);  // never notified
@@ -329,6 +339,9 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     wait_for_space_or_answers(work && !room, next == never ? nullptr : &next);
   }
   stats_.end = clock_.now();
+  if (timeline_)
+    timeline_->slice(track_, "frame", stats_.start.value(), stats_.end.value(),
+                     {{"frame", static_cast<std::uint64_t>(cmd.frame)}, {"rays", issued_}});
 }
 
 template <typename T>

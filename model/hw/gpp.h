@@ -20,6 +20,7 @@
 #include "hw/local_clock.h"
 #include "hw/payloads.h"
 #include "hw/ray_fifo.h"
+#include "hw/timeline.h"
 #include "hw/visit_stream.h"
 #include "hw/vcd_writer.h"
 #include "hw/watchdog.h"
@@ -59,7 +60,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
 
   SC_HAS_PROCESS(Gpp);
   Gpp(const sc_core::sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
-      FunctionalFrame<T>& frame, VcdWriter* vcd);
+      FunctionalFrame<T>& frame, VcdWriter* vcd, TimelineWriter* timeline = nullptr);
 
   // Spheres per unit, in the units' order; takes effect at the next frame.
   void set_assignment(const std::vector<std::vector<std::uint32_t>>& unit_spheres) { assignment_ = unit_spheres; }
@@ -125,6 +126,8 @@ class Gpp : public sc_core::sc_module, public Waiter {
   std::uint64_t primaries_retired_ = 0, pixel_count_ = 0;
   VcdWriter* vcd_;
   int vcd_in_flight_ = -1, vcd_frame_ = -1, vcd_refit_ = -1;
+  TimelineWriter* timeline_;  // null when not traced
+  int track_ = -1;
   // For the watchdog (plain stores): in a frame, and what it waits for (-1: answers only,
   // else also room in that FIFO).
   bool in_frame_ = false;

@@ -31,7 +31,8 @@ bool sync_misses(const Arch& a, LocalClock::Mode m) {
 
 template <typename T>
 IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const Arch& arch,
-                                      const SceneGeometry<T>& geometry, const FunctionalFrame<T>& frame, VcdWriter* vcd)
+                                      const SceneGeometry<T>& geometry, const FunctionalFrame<T>& frame, VcdWriter* vcd,
+                                      TimelineWriter* timeline)
     : sc_module(name),
       cfg("cfg"),
       bus("bus"),
@@ -43,13 +44,18 @@ IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const 
       frame_(frame),
       cycle_(arch.cycle_ns(), SC_NS),
       triangle_bytes_(Bytes<T>::triangle(arch.kernel)),
+      trace_lead_(cycle_ * static_cast<double>(kTraceLeadCycles)),
       clock_(unit_clock(arch)),
       sync_on_bus_(arch.bus.model == BusModel::shared && arch.bus.lt_arbitration == LtArbitration::sync),
       sync_misses_(sync_misses(arch, clock_.mode())),
       addresses_(geometry),
-      vcd_(vcd) {
+      vcd_(vcd),
+      timeline_(timeline) {
   cfg.register_b_transport(this, &IntersectionUnit::cfg_transport);
-  if (vcd_) vcd_state_ = vcd_->add(this->name(), "state", 3);
+  if (vcd_ && (vcd_state_ = vcd_->add(this->name(), "state", 3)) == VcdWriter::kNotTraced) vcd_ = nullptr;
+  if (timeline_ && (track_ = timeline_->track(this->name(), "state", "IU " + std::to_string(id))) ==
+                       TimelineWriter::kNotTraced)
+    timeline_ = nullptr;
   reset_stats();
   SC_THREAD(run);
 }
@@ -71,17 +77,30 @@ void IntersectionUnit<T>::cfg_transport(tlm::tlm_generic_payload& p, sc_time&) {
   p.set_response_status(tlm::TLM_OK_RESPONSE);
 }
 
+// The unit reports its own state in time order, so a report equal to the last one changes
+// nothing and is skipped (most rays are sphere tests only, back to back).
 template <typename T>
 void IntersectionUnit<T>::trace_state(UnitState s, const sc_time& at) {
+  if (s == traced_state_) return;
+  traced_state_ = s;
   vcd_->change(vcd_state_, at.value(), static_cast<std::uint64_t>(s));
 }
 
+namespace {
+constexpr const char* kPhaseName[] = {"idle", "sphere", "transform", "primitive", "stall", "box", "node"};  // UnitState
+}
+
 template <typename T>
-void IntersectionUnit<T>::trace_phases(const UnitRayWork* w, sc_time at) {
+void IntersectionUnit<T>::trace_phases(std::uint32_t ray, const UnitRayWork* w, sc_time at) {
   const std::uint32_t transform = arch_.kernel_costs().transform;
   for_each_phase(frame_, w, static_cast<std::uint32_t>(id_), transform, [&](std::uint8_t state, std::uint64_t cycles) {
-    trace_state(static_cast<UnitState>(state), at);
-    at += sc_time::from_value(cycles * cycle_.value());
+    const sc_time end = at + sc_time::from_value(cycles * cycle_.value());
+    if (vcd_) trace_state(static_cast<UnitState>(state), at);
+    if (timeline_) {
+      if (w) timeline_->slice(track_, kPhaseName[state], at.value(), end.value(), {{"ray", ray}});
+      else timeline_->run_slice(track_, kPhaseName[state], at.value(), end.value(), ray);  // sphere tests only
+    }
+    at = end;
   });
 }
 
@@ -103,10 +122,13 @@ void IntersectionUnit<T>::read_memory(std::uint32_t sphere, std::uint64_t bytes)
 }
 
 template <typename T>
-void IntersectionUnit<T>::advance_tracing(UnitState s, std::uint64_t cycles) {
+void IntersectionUnit<T>::advance_tracing(std::uint32_t ray, UnitState s, std::uint64_t cycles) {
   if (!cycles) return;
-  if (vcd_) trace_state(s, clock_.now());
+  const sc_time start = clock_.now();
+  if (vcd_) trace_state(s, start);
   clock_.advance(sc_time::from_value(cycles * cycle_.value()));
+  if (timeline_)
+    timeline_->slice(track_, kPhaseName[static_cast<int>(s)], start.value(), clock_.now().value(), {{"ray", ray}});
 }
 
 // A ray through a cache: visit by visit, each timed by the memory from the moment its sphere
@@ -114,7 +136,8 @@ void IntersectionUnit<T>::advance_tracing(UnitState s, std::uint64_t cycles) {
 // the trace's memory stall (on-chip memory's) is replaced by the cache's. Returns the cycles
 // the unit spent: busy and the cache's stall.
 template <typename T>
-std::uint64_t IntersectionUnit<T>::trace_through_cache(const RayRecord<T>& r, const UnitRayWork& w) {
+std::uint64_t IntersectionUnit<T>::trace_through_cache(std::uint32_t ray, const RayRecord<T>& r,
+                                                        const UnitRayWork& w) {
   const UnitTrace<T>& ut = frame_.units[static_cast<std::uint32_t>(id_)];
   const std::uint32_t i = ut.index(&w);
   const std::uint32_t transform = arch_.kernel_costs().transform;
@@ -123,8 +146,8 @@ std::uint64_t IntersectionUnit<T>::trace_through_cache(const RayRecord<T>& r, co
   std::uint64_t trace_stall = 0, stall = 0;
   for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
     const VisitWork& v = ut.visits[k];
-    advance_tracing(UnitState::node, std::uint64_t{v.nodes_before} * frame_.node_cost);
-    advance_tracing(UnitState::sphere, std::uint64_t{v.spheres_before} * frame_.sphere_cost);
+    advance_tracing(ray, UnitState::node, std::uint64_t{v.nodes_before} * frame_.node_cost);
+    advance_tracing(ray, UnitState::sphere, std::uint64_t{v.spheres_before} * frame_.sphere_cost);
     nodes += v.nodes_before;
     spheres += v.spheres_before;
     trace_stall += v.stall;
@@ -143,6 +166,7 @@ std::uint64_t IntersectionUnit<T>::trace_through_cache(const RayRecord<T>& r, co
     read_.set_data_ptr(reinterpret_cast<unsigned char*>(&packet));
     read_.set_data_length(static_cast<unsigned>(bytes));
     read_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+    const sc_time visit_start = clock_.now();
     if (sync_misses_) clock_.sync();  // lt: the memory may wait, from local time
     sc_time delay = clock_.offset();
     mem->b_transport(read_, delay);
@@ -151,9 +175,16 @@ std::uint64_t IntersectionUnit<T>::trace_through_cache(const RayRecord<T>& r, co
     if (sync_misses_) clock_.resync();
     clock_.advance_to(sc_time_stamp() + delay);  // the visit's end
     stall += packet.stall;
+    traced_state_ = kStateUnknown;  // the memory reported the visit's states (and stalls)
+    if (timeline_) {  // the transform, then the rest of the visit with its cache stalls
+      const sc_time t = visit_start + sc_time::from_value(transform * cycle_.value());
+      timeline_->slice(track_, "transform", visit_start.value(), t.value(), {{"ray", ray}});
+      timeline_->slice(track_, "primitive", t.value(), clock_.now().value(),
+                       {{"ray", ray}, {"cache_stall", packet.stall}});
+    }
   }
-  advance_tracing(UnitState::node, std::uint64_t{ut.node_tests[i] - nodes} * frame_.node_cost);
-  advance_tracing(UnitState::sphere, std::uint64_t{ut.sphere_tests[i] - spheres} * frame_.sphere_cost);
+  advance_tracing(ray, UnitState::node, std::uint64_t{ut.node_tests[i] - nodes} * frame_.node_cost);
+  advance_tracing(ray, UnitState::sphere, std::uint64_t{ut.sphere_tests[i] - spheres} * frame_.sphere_cost);
   stats_.cache_stall += stall;
   const std::uint64_t spent = w.cycles - trace_stall + stall;  // busy, and the cache's stall
   if (static_cast<std::uint64_t>((clock_.now() - start).value() / cycle_.value()) != spent)
@@ -185,7 +216,7 @@ void IntersectionUnit<T>::run() {
     ++stats_.rays[kind];
     const UnitTrace<T>& ut = frame_.units[unit];
     if (cached_ && w && ut.visit_first[ut.index(w) + 1] > ut.visit_first[ut.index(w)]) {
-      stats_.charged += trace_through_cache(r, *w);  // the trace keeps the detail for caches (Gpp)
+      stats_.charged += trace_through_cache(e.ray, r, *w);  // the trace keeps the detail for caches (Gpp)
     } else {
       if (w && frame_.detailed) {
         const std::uint32_t i = ut.index(w);
@@ -196,11 +227,15 @@ void IntersectionUnit<T>::run() {
       } else if (w) {
         read_memory(kNone, w->bytes);
       }
-      if (vcd_) trace_phases(w, clock_.now());
+      if (vcd_ || timeline_) trace_phases(e.ray, w, clock_.now());
       const std::uint64_t cycles = frame_.cycles(w, unit);
       stats_.charged += cycles;
       clock_.advance(sc_time::from_value(cycles * cycle_.value()));
     }
+    // Running ahead, with the trace writer full: let the units behind catch up (vcd_writer.h).
+    if (vcd_ && vcd_->full() && clock_.mode() == LocalClock::Mode::ahead && clock_.offset() > trace_lead_ &&
+        vcd_->over_budget())
+      clock_.catch_up();
 
     // Answer the GPP. The unit waits for its transfer: time on the bus is a stall.
     AnswerPacket<T> a;
@@ -223,8 +258,10 @@ void IntersectionUnit<T>::run() {
     bus->b_transport(answer_, delay);
     if (answer_.is_response_error()) SC_REPORT_FATAL(name(), "answer to the GPP failed");
     clock_.advance_to(sim + delay);  // decoupled: the transfer's end; at: already waited
-    if (arch_.bus.model == BusModel::shared)
+    if (arch_.bus.model == BusModel::shared) {
       stats_.bus_stall += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
+      if (timeline_) timeline_->slice(track_, "bus wait", before.value(), clock_.now().value(), {{"ray", e.ray}});
+    }
   }
 }
 

@@ -23,6 +23,7 @@
 #include "hw/payloads.h"
 #include "hw/ray_fifo.h"
 #include "hw/unit_cycles.h"
+#include "hw/timeline.h"
 #include "hw/vcd_writer.h"
 #include "hw/visit_stream.h"
 #include "hw/watchdog.h"
@@ -58,7 +59,7 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
 
   SC_HAS_PROCESS(IntersectionUnit);
   IntersectionUnit(const sc_core::sc_module_name& name, int id, const Arch& arch, const SceneGeometry<T>& geometry,
-                   const FunctionalFrame<T>& frame, VcdWriter* vcd);
+                   const FunctionalFrame<T>& frame, VcdWriter* vcd, TimelineWriter* timeline = nullptr);
 
   int id() const { return id_; }
   const IuRegisters<T>& registers() const { return regs_; }
@@ -70,10 +71,10 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   void run();
   void cfg_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
   void read_memory(std::uint32_t sphere, std::uint64_t bytes);
-  std::uint64_t trace_through_cache(const RayRecord<T>& r, const UnitRayWork& w);
-  void advance_tracing(UnitState s, std::uint64_t cycles);
+  std::uint64_t trace_through_cache(std::uint32_t ray, const RayRecord<T>& r, const UnitRayWork& w);
+  void advance_tracing(std::uint32_t ray, UnitState s, std::uint64_t cycles);
   void trace_state(UnitState s, const sc_core::sc_time& at);
-  void trace_phases(const UnitRayWork* w, sc_core::sc_time at);
+  void trace_phases(std::uint32_t ray, const UnitRayWork* w, sc_core::sc_time at);
 
   const int id_;
   const Arch& arch_;
@@ -81,6 +82,10 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   const FunctionalFrame<T>& frame_;
   const sc_core::sc_time cycle_;
   const std::uint32_t triangle_bytes_;
+  // How far a unit running ahead may lead simulation time while the trace writer is over
+  // its budget: the units behind keep going (no wait) until they lead by as much.
+  static constexpr std::uint64_t kTraceLeadCycles = std::uint64_t{1} << 13;
+  const sc_core::sc_time trace_lead_;
   IuRegisters<T> regs_;
   UnitStats stats_;
   LocalClock clock_;
@@ -91,8 +96,12 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   const GeometryAddresses<T> addresses_;
   VisitStream stream_;
   tlm::tlm_generic_payload answer_, read_;
-  VcdWriter* vcd_;
+  VcdWriter* vcd_;  // null when not traced
   int vcd_state_ = -1;
+  static constexpr UnitState kStateUnknown = static_cast<UnitState>(0xff);
+  UnitState traced_state_ = UnitState::idle;  // the last state reported to vcd_ (by the unit)
+  TimelineWriter* timeline_;  // null when not traced
+  int track_ = -1;
   // For the watchdog: what the process is doing (plain stores, no events).
   enum class Activity : std::uint8_t { waiting_for_ray, tracing, answering } activity_ = Activity::waiting_for_ray;
   std::uint32_t ray_ = 0;

@@ -57,6 +57,13 @@ class LocalClock {
   void sync() {
     if (mode_ == Mode::quantum && qk_.get_local_time() != sc_core::SC_ZERO_TIME) qk_.sync();
   }
+  // Let simulation time catch up with local time: what `exact` does after every delay, so
+  // it changes no figure; a unit running ahead does it when its trace must be written
+  // (vcd_writer.h).
+  void catch_up() {
+    if (mode_ == Mode::quantum) sync();
+    else if (mode_ == Mode::ahead && ahead_ > sc_core::sc_time_stamp()) sc_core::wait(ahead_ - sc_core::sc_time_stamp());
+  }
   // After blocking: local time restarts at simulation time.
   void resync() {
     if (mode_ == Mode::quantum) qk_.reset();

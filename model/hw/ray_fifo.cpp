@@ -9,7 +9,7 @@ using namespace sc_core;
 RayFifo::RayFifo(const sc_module_name& name, int depth, VcdWriter* vcd)
     : sc_module(name), in("in"), depth_(depth), pop_time_(depth > 0 ? depth : 0), vcd_(vcd) {
   in.register_b_transport(this, &RayFifo::b_transport);
-  if (vcd_) vcd_var_ = vcd_->add_counter(this->name(), "occupancy", 32);
+  if (vcd_ && (vcd_var_ = vcd_->add_counter(this->name(), "occupancy", 32)) == VcdWriter::kNotTraced) vcd_ = nullptr;
 }
 
 // A push is reported at its time, a pop at its unit's (local) time, which may lie ahead of

@@ -87,21 +87,25 @@ TEST_CASE("cli: --threads takes a positive count", "[cli][threads]") {
 }
 
 namespace {
-// The same run twice: units running ahead (the default where nothing can observe them) and
+// The same run three times: units running ahead (the default where nothing can observe
+// them), running ahead but made to wait often by a tiny trace buffer (vcd_writer.h), and
 // every unit waiting out each ray in simulated time.
 void check_running_ahead_is_exact(const std::string& name, const std::string& arch_json, const std::string& extra) {
   const fs::path d = temp_dir("ahead_" + name);
-  for (const std::string mode : {"ahead", "sync"}) {
+  for (const std::string mode : {"ahead", "tight", "sync"}) {
     std::string arch = arch_json;
     if (mode == "sync") arch.insert(arch.size() - 1, ", \"sync_every_ray\": true");
     std::ofstream(d / (mode + ".json")) << arch;
     const Result r = run_oprt("render " + scene("paper_room.json") + " --arch " + (d / (mode + ".json")).string() +
                               " --frames 0:1 --resolution 40x40 --no-progress " + extra + " --vcd " +
-                              (d / mode / "trace.vcd").string() + " --out " + (d / mode).string());
+                              (d / mode / "trace.vcd").string() + " --out " + (d / mode).string() +
+                              (mode == "tight" ? " --trace-buffer 64" : ""));
     REQUIRE(r.status == 0);
   }
   check_same_stats(d / "ahead", d / "sync", "stats.json", {"arch"});
   check_same_files(d / "ahead", d / "sync", {"frame_0000.exr", "frame_0001.exr", "trace.vcd"});
+  check_same_stats(d / "tight", d / "sync", "stats.json", {"arch"});
+  check_same_files(d / "tight", d / "sync", {"frame_0000.exr", "frame_0001.exr", "trace.vcd"});
   // Every unit did work, so the waveform has something to agree on.
   CHECK(fs::file_size(d / "sync" / "trace.vcd") > 100000);
 }
