@@ -204,7 +204,8 @@ Cost frame_energy_j(const Tech& t, const Design& d, const OpCounts& per_op, cons
   }
   b.charge("fp_compare", static_cast<double>(ops.compare), compare, "fp_add energy (comparisons run on the adder)");
   b.charge("fp_inverse", static_cast<double>(ops.inverse), t.fp_inverse.energy_pj, "fp_inverse energy");
-  b.charge("register_file", 3.0 * static_cast<double>(ops.total()), t.register_file.energy_pj, "register_file energy");
+  b.charge("register_file", d.iu.register_accesses_per_op * static_cast<double>(ops.total()), t.register_file.energy_pj,
+           "register_file energy");
 
   const std::size_t units = d.units.size();
   const auto sram_access = t.sram.access_bytes.value_or(1);

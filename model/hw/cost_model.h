@@ -9,7 +9,8 @@
 //       pays for the operations its unit had issued by then. A comparison runs on the
 //       adder (at the adder's energy) unless the IU has comparators.
 //   register_file            3 accesses per operation (2 operand reads, 1 write), as
-//                            SimTRaX charges an instruction (its sim/main.cc).
+//                            SimTRaX charges an instruction (its sim/main.cc); IuUnits
+//                            sets another count.
 //   object_memory_reads      bytes read / access width x the energy of one access of an
 //                            SRAM of that unit's object-memory size (interpolated).
 //   object_memory_writes     geometry loaded during the frame, charged as reads.
@@ -83,6 +84,10 @@ struct IuUnits {
   int comparators = 0;  // 0: comparisons run on an adder
   int inverters = 0;
   int register_files = 1;
+  // Register-file accesses per FP operation: 2 operand reads and a write when every operand
+  // comes from the register file (SimTRaX's rule); a pipelined unit that forwards operands
+  // through pipeline registers makes fewer.
+  double register_accesses_per_op = 3;
 };
 
 // What each unit is built with (for area, and for the energy of an access).

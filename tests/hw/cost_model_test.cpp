@@ -84,6 +84,10 @@ TEST_CASE("cost: the energy of one sphere test at 65 nm, by hand", "[cost]") {
   Design with_cmp = d;
   with_cmp.iu.comparators = 1;
   CHECK(*frame_energy_j(t, with_cmp, op_counts(Kernel::moller), f).of("fp_compare") == Approx(0.54e-12));
+  // A unit that forwards operands and only writes results: one access per operation.
+  Design forwarding = d;
+  forwarding.iu.register_accesses_per_op = 1;
+  CHECK(*frame_energy_j(t, forwarding, op_counts(Kernel::moller), f).of("register_file") == Approx(22 * 7.89613e-12));
 }
 
 TEST_CASE("cost: memory, FIFO and configuration energy by hand", "[cost]") {
