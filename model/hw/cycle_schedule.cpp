@@ -67,8 +67,9 @@ std::string Schedule::table() const {
 }
 
 namespace {
-Op add(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::adder, std::move(in), exit}; }
-Op mul(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::multiplier, std::move(in), exit}; }
+Op add(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::adder, std::move(in), exit, false}; }
+Op mul(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::multiplier, std::move(in), exit, false}; }
+Op cmp(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::adder, std::move(in), exit, true}; }
 }  // namespace
 
 // L = c - o, tca = L.d, hit if (L.L - r^2) - tca^2 <= 0 (r^2 folded in early; the final
@@ -81,7 +82,7 @@ const OpGraph& sphere_textbook_graph() {
       mul("Lx*Lx", {"Lx"}), mul("Ly*Ly", {"Ly"}), mul("Lz*Lz", {"Lz"}),
       add("tca'", {"Lx*dx", "Ly*dy"}), add("tca", {"tca'", "Lz*dz"}), mul("tca^2", {"tca"}),
       add("LL'", {"Lx*Lx", "Ly*Ly"}), add("LL", {"LL'", "Lz*Lz"}), add("LL-r2", {"LL"}),
-      add("LL-r2-tca2", {"LL-r2", "tca^2"}, 0)}};
+      cmp("LL-r2-tca2", {"LL-r2", "tca^2"}, 0)}};
   return g;
 }
 
@@ -96,7 +97,7 @@ const OpGraph& sphere_stable_graph() {
       add("lx", {"fx", "b*dx"}), add("ly", {"fy", "b*dy"}), add("lz", {"fz", "b*dz"}),
       mul("lx*lx", {"lx"}), mul("ly*ly", {"ly"}), mul("lz*lz", {"lz"}), mul("b*b", {"b"}),
       add("ll'", {"lx*lx", "ly*ly"}), add("ll'-r2", {"ll'"}), add("ll-r2", {"ll'-r2", "lz*lz"}, 0),
-      add("ll-r2+b2", {"ll-r2", "b*b"}, 0)}};
+      cmp("ll-r2+b2", {"ll-r2", "b*b"}, 0)}};
   return g;
 }
 
@@ -146,11 +147,11 @@ const OpGraph& moller_graph() {
       mul("e2x*cx", {"cx"}), mul("e2y*cy", {"cy"}), mul("e2z*cz", {"cz"}),
       add("u'", {"e2x*cx", "e2y*cy"}), add("u", {"u'", "e2z*cz"}), add("det-u", {"u", "det"}, 1),
       mul("e1x*cx", {"cx"}), mul("e1y*cy", {"cy"}), mul("e1z*cz", {"cz"}),
-      add("v'", {"e1x*cx", "e1y*cy"}), add("v", {"v'", "e1z*cz"}), add("det-u-v", {"det-u", "v"}, 2),
+      add("v'", {"e1x*cx", "e1y*cy"}), add("v", {"v'", "e1z*cz"}), cmp("det-u-v", {"det-u", "v"}, 2),
       mul("tvx*nx", {"tvx"}), mul("tvy*ny", {"tvy"}), mul("tvz*nz", {"tvz"}),
       add("t''", {"tvx*nx", "tvy*ny"}), add("t'", {"t''", "tvz*nz"}),
       mul("tmax*det", {"det"}), mul("t'best*det", {"det"}), mul("t'*detbest", {"t'"}),
-      add("tmax*det-t'", {"t'", "tmax*det"}, 3), add("nearest?", {"t'*detbest", "t'best*det"}, 3)}};
+      cmp("tmax*det-t'", {"t'", "tmax*det"}, 3), cmp("nearest?", {"t'*detbest", "t'best*det"}, 3)}};
   return g;
 }
 
@@ -162,8 +163,8 @@ const OpGraph& transform_watertight_graph() {
   static const OpGraph g = [] {
     OpGraph t{"ray transform into the local frame, with the dominant axis (watertight)", {"done"}, {}};
     for (const char* r : {"x", "y", "z"}) push_row(t, std::string("d'") + r, false, -1);
-    t.ops.push_back(add("|d'x|-|d'y|", {"d'x", "d'y"}));
-    t.ops.push_back(add("max-|d'z|", {"|d'x|-|d'y|", "d'z"}, 0));
+    t.ops.push_back(cmp("|d'x|-|d'y|", {"d'x", "d'y"}));
+    t.ops.push_back(cmp("max-|d'z|", {"|d'x|-|d'y|", "d'z"}, 0));
     for (const char* r : {"x", "y", "z"}) push_row(t, std::string("o'") + r, true, 0);
     return t;
   }();
@@ -197,7 +198,7 @@ const OpGraph& watertight_graph() {
       mul("U*Az", {"U"}), mul("V*Bz", {"V"}), mul("W*Cz", {"W"}),
       add("T'", {"U*Az", "V*Bz"}), add("T", {"T'", "W*Cz"}),
       mul("D=dz*det", {"det"}), mul("tmax*D", {"D=dz*det"}), mul("Tbest*D", {"D=dz*det"}), mul("T*Dbest", {"T"}),
-      add("tmax*D-T", {"T", "tmax*D"}, 3), add("nearest?", {"T*Dbest", "Tbest*D"}, 3)}};
+      cmp("tmax*D-T", {"T", "tmax*D"}, 3), cmp("nearest?", {"T*Dbest", "Tbest*D"}, 3)}};
   return g;
 }
 
@@ -236,9 +237,9 @@ const OpGraph& box_graph() {
       add("nx-ox"), add("fx-ox"), add("ny-oy"), add("fy-oy"), add("nz-oz"), add("fz-oz"),
       mul("tnx", {"nx-ox"}), mul("tfx", {"fx-ox"}), mul("tny", {"ny-oy"}), mul("tfy", {"fy-oy"}),
       mul("tnz", {"nz-oz"}), mul("tfz", {"fz-oz"}),
-      add("tnx-tny", {"tnx", "tny"}), add("tfx-tfy", {"tfx", "tfy"}),
-      add("t0'-tnz", {"tnx-tny", "tnz"}), add("t1'-tfz", {"tfx-tfy", "tfz"}), add("t1''-limit", {"t1'-tfz"}),
-      mul("K*t1", {"t1''-limit"}), add("t0-K*t1", {"t0'-tnz", "K*t1"}, 0)}};
+      cmp("tnx-tny", {"tnx", "tny"}), cmp("tfx-tfy", {"tfx", "tfy"}),
+      cmp("t0'-tnz", {"tnx-tny", "tnz"}), cmp("t1'-tfz", {"tfx-tfy", "tfz"}), cmp("t1''-limit", {"t1'-tfz"}),
+      mul("K*t1", {"t1''-limit"}), cmp("t0-K*t1", {"t0'-tnz", "K*t1"}, 0)}};
   return g;
 }
 

@@ -4,8 +4,10 @@
 // two units cycle by cycle. The cycle counts the architecture charges by default come from
 // these schedules (cycle_costs.h); `oprt_schedules` prints them as tables.
 //
-// Conventions. A comparison is a subtraction whose sign is read (an adder op); a test
-// against zero reads a sign or zero flag and is free. Early-exit checks are placed in
+// Conventions. A comparison is a subtraction whose sign is read (an adder op, marked
+// `compare`: its result feeds only a flag or a multiplexer, so a unit with a comparator
+// could run it there; the energy model counts it apart, hw/cost_model.h); a test against
+// zero reads a sign or zero flag and is free. Early-exit checks are placed in
 // program order: the scheduler issues, on each unit, the first ready operation in program
 // order, so a stage's check is never delayed by work of a later stage (what a designer of an
 // early-exit unit does). A stage's exit cost is the cycle in which its last check completes.
@@ -23,6 +25,7 @@ struct Op {
   Fu fu;
   std::vector<std::string> in;  // operations whose results it needs (registers are free)
   int exit_stage = -1;          // >= 0: this op completes the check that ends that stage
+  bool compare = false;         // an adder op whose result is read only as a sign (a comparison)
 };
 
 struct OpGraph {
