@@ -80,6 +80,9 @@ int main(int argc, char** argv) {
   render->add_option("--accel", ro.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
   render->add_option("--kernel", ro.kernel, "moller | watertight")->check(CLI::IsMember({"moller", "watertight"}));
   render->add_option("--precision", ro.precision, "float | double")->check(CLI::IsMember({"float", "double"}));
+  render->add_option("--iu", ro.iu, "serial | pipelined: the intersection unit's microarchitecture")
+      ->check(CLI::IsMember({"serial", "pipelined"}));
+  render->add_option("--tech", ro.tech, "technology table for area and energy (default: the built-in testbench/tech/65nm.json)");
   render->add_option("--resolution", ro.resolution, "WxH; default: the scene's");
   render->add_option("--out", ro.out, "output directory");
   render->add_option("--vcd", ro.vcd, "write a VCD trace to this file");

@@ -15,7 +15,8 @@ namespace oprt {
 struct RenderOptions {
   std::string scene, arch_file, frames, resolution, out = "out", vcd;
   std::optional<int> ius, subdivide;
-  std::optional<std::string> level, quantum, balance, accel, kernel, precision;
+  std::optional<std::string> level, quantum, balance, accel, kernel, precision, iu;
+  std::string tech;  // technology table; empty: the built-in 65 nm one
   bool progress = true;  // on a terminal only
   LoadOptions load;
 };

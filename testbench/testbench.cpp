@@ -109,6 +109,7 @@ class Testbench : public sc_module {
     for (std::size_t u = 0; u < engine_->units(); ++u) {
       engine_->unit(u).reset_stats();
       engine_->memory(u).reset_stats();
+      engine_->fifo(u).reset_counts();
     }
     engine_->bus().reset_stats();
   }
@@ -132,6 +133,12 @@ class Testbench : public sc_module {
       r.cycles = s.cycles;
       r.rays = s.rays[0] + s.rays[1];
       r.memory_bytes = engine_->memory(u).bytes_read();
+      r.pipeline = s.pipeline;
+      hw::RayFifo& fifo = engine_->fifo(u);
+      r.fifo_pushes = fifo.pushes();
+      r.fifo_pops = fifo.pops();
+      r.fifo_peak = fifo.peak_occupancy();
+      if (u < g.unit_memory_load_bytes.size()) r.memory_load_bytes = g.unit_memory_load_bytes[u];
       run.units.push_back(r);
     }
     run.per_sphere = engine_->functional().per_sphere;

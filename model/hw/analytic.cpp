@@ -47,6 +47,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
         bytes += geom_.memory_bytes(s);
     if (loaded_[u] == assignment_[u] && bytes == 0) continue;
     out.memory_load_bytes += bytes;
+    out.units[u].memory_load_bytes += bytes;
     const Cycles before = g;
     g = transfer(g, bytes);
     out.memory_load_cycles += g - before;
@@ -68,6 +69,12 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   std::vector<Cycles> last_pop;  // per ray in issue order: when the last FIFO popped it (FIFO room)
   last_pop.reserve(f.ray_count());
   std::vector<Cycles> unit_free(units, 0);
+  const bool pipelined = arch_.iu.model == IuModel::pipelined;
+  // Each frame's time starts at 0 here, and every unit is idle when a frame starts.
+  if (pipelined) pipes_.assign(units, PipelinedUnitTiming(pipeline_config(arch_, Bytes<T>::triangle(arch_.kernel))));
+  fifo_peak_.resize(units, 0);
+  // Per unit: pop times of rays still queued at the latest push (FIFO occupancy in time).
+  std::vector<std::deque<Cycles>> queued(units);
   std::priority_queue<Completion, std::vector<Completion>, std::greater<Completion>> completed;
   std::deque<std::uint32_t> shadow_queue;
   const unsigned depth = static_cast<unsigned>(arch_.fifo_depth);
@@ -89,14 +96,31 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     for (std::uint32_t u = 0; u < units; ++u) {
       const UnitRayWork* w = f.find(id, u);
       UnitRun& ur = out.units[u];
-      const Cycles start = std::max(unit_free[u], avail);
-      UnitCycles c = f.breakdown(w, u);
-      const Cycles end = start + c.busy() + c.stall;
-      const Cycles done = transfer(end, answer);
-      c.stall += done - end;
-      ur.cycles += c;
+      Cycles start, done;
+      if (pipelined) {
+        PipelinedUnitTiming& p = pipes_[u];
+        start = std::max(static_cast<Cycles>(p.ready()), avail);
+        const VisitWork* visits = w ? &f.units[u].visits[w->first_visit] : nullptr;
+        const auto k = p.take(static_cast<Cycle>(start), static_cast<Cycle>(avail),
+                              w ? w->sphere_tests : f.unit_entries[u], visits, w ? w->visits : 0);
+        done = transfer(static_cast<Cycles>(k.done), answer);
+        p.retire(k.handle, k.done, static_cast<Cycle>(done));
+      } else {
+        start = std::max(unit_free[u], avail);
+        UnitCycles c = f.breakdown(w, u);
+        const Cycles end = start + c.busy() + c.stall;
+        done = transfer(end, answer);
+        c.stall += done - end;
+        ur.cycles += c;
+        unit_free[u] = done;
+      }
       ++ur.rays;
-      unit_free[u] = done;
+      ++ur.fifo_pushes;
+      ++ur.fifo_pops;
+      std::deque<Cycles>& q = queued[u];
+      while (!q.empty() && q.front() <= avail) q.pop_front();
+      fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], q.size() + 1);
+      q.push_back(start);
       done_all = std::max(done_all, done);
       popped = std::max(popped, start);
     }
@@ -131,6 +155,16 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   }
   out.makespan = g;
   *cmd.image = f.image;
+  for (std::size_t u = 0; u < units; ++u) {
+    out.units[u].fifo_peak = fifo_peak_[u];
+    if (!pipelined) continue;
+    const PipelineStats& p = pipes_[u].stats();
+    out.units[u].pipeline = p;
+    out.units[u].cycles.sphere = p.stage[0].busy;
+    out.units[u].cycles.transform = p.stage[1].busy;
+    out.units[u].cycles.primitive = p.stage[2].busy;
+    out.units[u].cycles.stall = p.stage[2].memory + p.answer_wait;
+  }
   out.per_sphere = f.per_sphere;
   for (std::size_t u = 0; u < units; ++u)
     for (int k = 0; k < kRayKinds; ++k)

@@ -10,6 +10,9 @@
 // when it is issued. Under the paper's ideal architecture this is exactly the timing of
 // `at`. With a shared bus it is approximate: a later-issued ray's answer may in truth take
 // the bus before an earlier-issued one's, and the calendar grants in issue order instead.
+// A pipelined unit (`"iu": {"model": "pipelined"}`) is timed by the same model as the
+// SystemC unit's (pipeline_timing.h): it takes ray k at max(when the pipeline can take a
+// ray, when ray k arrived), and its answer leaves when the bus has carried it.
 // Not a SystemC module: plain C++, one call per frame.
 #pragma once
 
@@ -18,9 +21,11 @@
 #include "hw/calendar.h"
 #include "hw/functional_frame.h"
 #include "hw/payloads.h"
+#include "hw/pipeline_timing.h"
 #include "hw/unit_cycles.h"
 #include "scene/scene.h"
 
+#include <optional>
 #include <vector>
 
 namespace oprt::hw {
@@ -30,6 +35,10 @@ struct UnitRun {
   UnitCycles cycles;
   std::uint64_t rays = 0;
   std::uint64_t memory_bytes = 0;
+  std::uint64_t memory_load_bytes = 0;      // geometry loaded into its object memory this frame
+  std::uint64_t fifo_pushes = 0, fifo_pops = 0;
+  std::uint64_t fifo_peak = 0;              // most rays its FIFO held at once, over the run so far
+  std::optional<PipelineStats> pipeline;    // a pipelined unit's stages
 };
 
 struct FrameRun {
@@ -58,6 +67,8 @@ class AnalyticEngine {
   const Arch& arch_;
   std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
   FunctionalFrame<T> frame_;
+  std::vector<PipelinedUnitTiming> pipes_;  // pipelined units
+  std::vector<std::uint64_t> fifo_peak_;    // per unit, over the run
 };
 
 extern template class AnalyticEngine<float>;

@@ -174,6 +174,10 @@ Cost area_mm2(const Tech& t, const Design& d) {
   for (const UnitSize& u : d.units) config += static_cast<double>(u.config_bytes);
   b.charge("configuration_registers", config, per_byte(t.register_file.area_mm2, t.register_file.bytes),
            "register_file area (configuration registers are charged at its area per byte)");
+  double buffers = 0;
+  for (const UnitSize& u : d.units) buffers += static_cast<double>(u.buffer_bytes);
+  b.charge("pipeline_buffers", buffers, per_byte(t.register_file.area_mm2, t.register_file.bytes),
+           "register_file area (a pipelined IU's buffers are charged at its area per byte)");
   const std::size_t units = d.units.size();
   charge_by_size(
       b, "object_memories", t.sram.area_mm2, "sram area", "object memories", units,
@@ -224,10 +228,15 @@ Cost frame_energy_j(const Tech& t, const Design& d, const OpCounts& per_op, cons
         return static_cast<double>(f.units[u].fifo_pushes + f.units[u].fifo_pops) * d.ray_bytes / sram_access;
       });
 
-  double config = 0, dram = 0;
-  for (const UnitActivity& u : f.units) config += static_cast<double>(u.config_write_bytes), dram += static_cast<double>(u.dram_bytes);
+  double config = 0, dram = 0, buffers = 0;
+  for (const UnitActivity& u : f.units) {
+    config += static_cast<double>(u.config_write_bytes);
+    dram += static_cast<double>(u.dram_bytes);
+    buffers += static_cast<double>(u.buffer_access_bytes);
+  }
   const auto rf_access = t.register_file.access_bytes.value_or(1);
   b.charge("configuration", config / rf_access, t.register_file.energy_pj, "register_file energy");
+  b.charge("pipeline_buffers", buffers / rf_access, t.register_file.energy_pj, "register_file energy");
 
   // The bus and leakage scale with the area.
   const Cost area = area_mm2(t, d);

@@ -18,13 +18,16 @@
 //                            the FIFO's size per access width.
 //   configuration            bytes written to configuration registers, one register-file
 //                            access per register.
+//   pipeline_buffers         a pipelined IU's queues and store of rays in flight: bytes
+//                            read and written, one register-file access per register.
 //   bus                      bytes x 8 x wire energy per bit and mm x the bus length, taken
 //                            as the side of a square die of the configuration's area.
 //   dram                     bytes / access x the middle of the table's range.
 //   leakage                  area x static power density x frame time.
 // Area, by component: the FP units and register files of each IU, the configuration
 // registers (register-file area per byte), the object memories sized to what their
-// assignment holds at its peak, the ray FIFOs; each summed over the units.
+// assignment holds at its peak, the ray FIFOs, a pipelined IU's buffers (register-file area
+// per byte); each summed over the units.
 // A component the table has no number for is reported as null (not charged) with a note;
 // a capacity outside the table's SRAM sizes is noted too.
 #pragma once
@@ -95,6 +98,7 @@ struct UnitSize {
   std::uint64_t object_memory_bytes = 0;  // what its assignment holds at its peak over the run
   std::uint64_t fifo_bytes = 0;           // ray FIFO capacity (depth x ray bytes; peak occupancy if unbounded)
   std::uint64_t config_bytes = 0;         // configuration registers for its spheres at the peak
+  std::uint64_t buffer_bytes = 0;         // a pipelined IU's queues and rays in flight (registers)
 };
 
 struct Design {
@@ -112,6 +116,7 @@ struct UnitActivity {
   std::uint64_t fifo_pushes = 0, fifo_pops = 0;
   std::uint64_t config_write_bytes = 0;
   std::uint64_t dram_bytes = 0;
+  std::uint64_t buffer_access_bytes = 0;  // a pipelined IU's queue and ray-store reads and writes
 };
 
 struct FrameActivity {

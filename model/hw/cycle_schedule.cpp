@@ -47,7 +47,32 @@ Schedule list_schedule(const OpGraph& g) {
   return s;
 }
 
+namespace {
+// A pipelined unit's schedule: several ops per kind in a cycle.
+std::string modulo_table(const Schedule& s) {
+  std::ostringstream out;
+  const OpGraph& g = *s.graph;
+  out << g.name << " (pipelined: a new instance every " << s.ii << (s.ii == 1 ? " cycle" : " cycles") << ", latency "
+      << s.length() << ")\n  cycle  adders | multipliers | exit\n";
+  for (int c = 1; c <= s.length(); ++c) {
+    std::string add, mul, exits;
+    for (std::size_t i = 0; i < s.cycle.size(); ++i) {
+      if (s.cycle[i] != c) continue;
+      std::string& col = g.ops[i].fu == Fu::adder ? add : mul;
+      col += (col.empty() ? "" : " ") + g.ops[i].name;
+    }
+    for (std::size_t k = 0; k < s.exit_cycle.size(); ++k)
+      if (s.exit_cycle[k] == c) exits += (exits.empty() ? "" : ", ") + g.stages[k];
+    char row[32];
+    std::snprintf(row, sizeof row, "  %5d  ", c);
+    out << row << (add.empty() ? "-" : add) << " | " << (mul.empty() ? "-" : mul) << " | " << exits << "\n";
+  }
+  return out.str();
+}
+}  // namespace
+
 std::string Schedule::table() const {
+  if (ii > 0) return modulo_table(*this);
   std::ostringstream out;
   const int n = *std::max_element(cycle.begin(), cycle.end());
   out << graph->name << "\n  cycle  adder            multiplier       exit\n";
@@ -64,6 +89,78 @@ std::string Schedule::table() const {
     out << row;
   }
   return out.str();
+}
+
+FpUnits full_units(const OpGraph& g, int add_latency, int multiply_latency) {
+  FpUnits u{0, 0, add_latency, multiply_latency};
+  for (const Op& op : g.ops) ++(op.fu == Fu::adder ? u.adders : u.multipliers);
+  return u;
+}
+
+Schedule modulo_schedule(const OpGraph& g, const FpUnits& units) {
+  if (units.add_latency < 1 || units.multiply_latency < 1) throw std::logic_error(g.name + ": FP latencies must be >= 1");
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < g.ops.size(); ++i)
+    if (!index.emplace(g.ops[i].name, i).second) throw std::logic_error(g.name + ": duplicate op " + g.ops[i].name);
+  int adds = 0, muls = 0;
+  for (const Op& op : g.ops) {
+    ++(op.fu == Fu::adder ? adds : muls);
+    for (const auto& in : op.in)
+      if (!index.count(in)) throw std::logic_error(g.name + ": " + op.name + " reads unknown " + in);
+  }
+  if ((adds && units.adders < 1) || (muls && units.multipliers < 1))
+    throw std::logic_error(g.name + ": needs at least one adder and one multiplier");
+  const auto ceil_div = [](int a, int b) { return b > 0 ? (a + b - 1) / b : 0; };
+  Schedule s;
+  s.graph = &g;
+  s.ii = std::max({1, ceil_div(adds, units.adders), ceil_div(muls, units.multipliers)});
+  s.cycle.assign(g.ops.size(), 0);
+  // Modulo reservation table: per kind, ops placed in each slot (cycle mod II).
+  std::vector<int> used_add(s.ii, 0), used_mul(s.ii, 0);
+  const auto latency = [&](std::size_t i) { return g.ops[i].fu == Fu::adder ? units.add_latency : units.multiply_latency; };
+  std::size_t left = g.ops.size();
+  while (left > 0) {
+    const std::size_t before = left;
+    for (std::size_t i = 0; i < g.ops.size(); ++i) {  // program order, each op once its inputs are placed
+      if (s.cycle[i]) continue;
+      int earliest = 1;
+      bool ready = true;
+      for (const auto& in : g.ops[i].in) {
+        const std::size_t j = index[in];
+        if (!s.cycle[j]) {
+          ready = false;
+          break;
+        }
+        earliest = std::max(earliest, s.cycle[j] + latency(j));
+      }
+      if (!ready) continue;
+      const bool adder = g.ops[i].fu == Fu::adder;
+      std::vector<int>& used = adder ? used_add : used_mul;
+      const int capacity = adder ? units.adders : units.multipliers;
+      for (int c = earliest; c < earliest + s.ii; ++c) {
+        if (used[c % s.ii] >= capacity) continue;
+        ++used[c % s.ii];
+        s.cycle[i] = c;
+        --left;
+        break;
+      }
+      if (!s.cycle[i]) throw std::logic_error(g.name + ": no free slot for " + g.ops[i].name);  // cannot happen
+    }
+    if (left == before) throw std::logic_error(g.name + ": dependency cycle");
+  }
+  s.exit_cycle.assign(g.stages.size(), 0);
+  for (std::size_t i = 0; i < g.ops.size(); ++i) {
+    const int k = g.ops[i].exit_stage;
+    if (k >= 0) s.exit_cycle.at(k) = std::max(s.exit_cycle[k], s.cycle[i] + latency(i) - 1);
+  }
+  for (std::size_t k = 0; k < s.exit_cycle.size(); ++k)
+    if (!s.exit_cycle[k]) throw std::logic_error(g.name + ": stage " + g.stages[k] + " has no exit op");
+  // The unit's latency covers every op, not only the exits (a later stage's check may
+  // complete before an unrelated op it does not need).
+  int last = 0;
+  for (std::size_t i = 0; i < g.ops.size(); ++i) last = std::max(last, s.cycle[i] + latency(i) - 1);
+  s.exit_cycle.back() = std::max(s.exit_cycle.back(), last);
+  return s;
 }
 
 namespace {

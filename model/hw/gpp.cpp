@@ -213,6 +213,8 @@ void Gpp<T>::load_memories() {
     if (loaded_[u] == assignment_[u] && bytes == 0) continue;
     MemoryLoadPacket packet{assignment_[u]};
     stats_.memory_load_bytes += bytes;
+    stats_.unit_memory_load_bytes.resize(assignment_.size(), 0);
+    stats_.unit_memory_load_bytes[u] += bytes;
     const sc_time before = clock_.now();
     write(addr::iu_window(static_cast<int>(u)) + addr::iu_memory, &packet, static_cast<unsigned>(bytes));
     stats_.memory_load_cycles += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);

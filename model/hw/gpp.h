@@ -43,6 +43,7 @@ struct GppStats {
   std::uint64_t config_bytes = 0;
   std::uint64_t memory_load_bytes = 0;   // geometry written into object memories this frame
   std::uint64_t memory_load_cycles = 0;  // how long the GPP waited for those writes (0 on an ideal bus)
+  std::vector<std::uint64_t> unit_memory_load_bytes;  // per unit: its share of memory_load_bytes
 };
 
 template <typename T>

@@ -12,11 +12,20 @@
 // out in one step (phases are only reported to the VCD, with their times): one simulation
 // event per ray at most, none while idle, and none at all per ray when nothing can observe
 // the unit's intermediate times (local_clock.h, `ahead`).
+//
+// With `"iu": {"model": "pipelined"}` the unit is a pipeline of a sphere, a transform and
+// a triangle unit with several rays in flight; its timing is hw/pipeline_timing.h's, and
+// its answers leave out of ray order, each at its own time. Where nothing can observe the
+// unit (`ahead`), it takes each ray as soon as the pipeline can and sends the answer at
+// once, annotated with its time. Otherwise (a bounded FIFO, a shared bus) two processes keep
+// simulated time exact: one pops each ray when the pipeline takes it, one sends each answer
+// when it is ready, in time order, and frees its ray slot when the bus has taken it.
 #pragma once
 
 #include "hw/functional_frame.h"
 #include "hw/local_clock.h"
 #include "hw/payloads.h"
+#include "hw/pipeline_timing.h"
 #include "hw/ray_fifo.h"
 #include "hw/unit_cycles.h"
 #include "hw/vcd_writer.h"
@@ -27,13 +36,18 @@
 #include <tlm_utils/simple_initiator_socket.h>
 #include <tlm_utils/simple_target_socket.h>
 
+#include <memory>
+#include <optional>
+#include <queue>
+
 namespace oprt::hw {
 
 enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primitive = 3, stall = 4, box = 5 };
 
 struct UnitStats {
-  UnitCycles cycles;
+  UnitCycles cycles;  // pipelined: each unit's issue cycles, and memory + bus stall
   std::uint64_t rays[kRayKinds] = {};
+  std::optional<PipelineStats> pipeline;  // a pipelined unit's stages
 };
 
 template <typename T>
@@ -47,10 +61,11 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   SC_HAS_PROCESS(IntersectionUnit);
   IntersectionUnit(const sc_core::sc_module_name& name, int id, const Arch& arch,
                    const FunctionalFrame<T>& frame, VcdWriter* vcd);
+  ~IntersectionUnit() override;
 
   int id() const { return id_; }
   const IuRegisters<T>& registers() const { return regs_; }
-  UnitStats& stats() { return stats_; }
+  UnitStats& stats();
   void reset_stats();
   std::string waiting_for() const override;
 
@@ -60,6 +75,13 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   void read_memory(const VisitWork& v);
   void trace_state(UnitState s, const sc_core::sc_time& at);
   void trace_phases(const UnitRayWork* w, sc_core::sc_time at);
+  void send_answer(std::uint32_t ray, const UnitRayWork* w, sc_core::sc_time& delay);
+  // Pipelined: the intake (pops rays) and, unless it runs ahead, the write-back (answers).
+  void run_pipelined();
+  void write_back();
+  void take(const RayEntry& e, Cycle t);
+  sc_core::sc_time time_of(Cycle c) const { return sc_core::sc_time::from_value(cycle_.value() * static_cast<std::uint64_t>(c)); }
+  Cycle cycle_of(const sc_core::sc_time& t) const { return static_cast<Cycle>((t.value() + cycle_.value() / 2) / cycle_.value()); }
 
   const int id_;
   const Arch& arch_;
@@ -74,8 +96,22 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   VcdWriter* vcd_;
   int vcd_state_ = -1;
   // For the watchdog: what the process is doing (plain stores, no events).
-  enum class Activity : std::uint8_t { waiting_for_ray, tracing, answering } activity_ = Activity::waiting_for_ray;
+  enum class Activity : std::uint8_t { waiting_for_ray, tracing, answering, waiting_for_slot } activity_ =
+      Activity::waiting_for_ray;
   std::uint32_t ray_ = 0;
+
+  // Pipelined unit.
+  struct Answer {
+    Cycle done;
+    std::uint32_t ray;
+    PipelinedUnitTiming::Handle handle;
+    bool operator>(const Answer& o) const { return done != o.done ? done > o.done : ray > o.ray; }
+  };
+  class Trace;
+  std::unique_ptr<Trace> pipe_trace_;
+  std::unique_ptr<PipelinedUnitTiming> pipe_;
+  std::priority_queue<Answer, std::vector<Answer>, std::greater<Answer>> answers_;
+  sc_core::sc_event answer_queued_, slot_freed_;
 };
 
 extern template class IntersectionUnit<float>;

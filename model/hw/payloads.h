@@ -36,6 +36,10 @@ struct Bytes {
   // per triangle, in the kernel's format: Moller v0, e1, e2, n; watertight v0, v1, v2
   static constexpr unsigned triangle(Kernel k) { return triangle_bytes<T>(k); }
   static constexpr unsigned node = BvhNode<T>::kBytes;                 // box, offset, count, axis
+  // A pipelined IU's queue entries: a job for the transform unit (ray slot, register
+  // entry) and one for the triangle unit (ray slot, sphere, the local ray's o and d).
+  static constexpr unsigned transform_job = 8;
+  static constexpr unsigned triangle_job = 8 + 6 * sizeof(T);
 };
 
 // Rays of the frame in flight, by id. Written by the GPP; units read the ray a FIFO entry
