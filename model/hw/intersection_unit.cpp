@@ -60,7 +60,7 @@ IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const 
     pipe_ = std::make_unique<PipelinedUnitTiming>(pipeline_config(arch, triangle_bytes_), pipe_trace_.get());
     reset_stats();
     SC_THREAD(run_pipelined);
-    if (clock_.mode() != LocalClock::Mode::ahead) SC_THREAD(write_back);
+    if (arch.bus.model != BusModel::ideal) SC_THREAD(write_back);
     return;
   }
   if (vcd_) vcd_state_ = vcd_->add(this->name(), "state", 3);
@@ -194,8 +194,8 @@ void IntersectionUnit<T>::send_answer(std::uint32_t ray, const UnitRayWork* w, s
 }
 
 // The pipeline takes ray e at cycle t: read the spheres it entered from object memory,
-// time it, and answer (at once, annotated, when nothing observes the unit; else through
-// the write-back process at the answer's time).
+// time it, and answer (at once, annotated, on an ideal bus; on a shared one through the
+// write-back process, at the answer's time).
 template <typename T>
 void IntersectionUnit<T>::take(const RayEntry& e, Cycle t) {
   const auto unit = static_cast<std::uint32_t>(id_);
@@ -211,7 +211,9 @@ void IntersectionUnit<T>::take(const RayEntry& e, Cycle t) {
   const std::uint32_t tests = w ? w->sphere_tests : frame_.unit_entries[unit];
   const PipelinedUnitTiming::Taken k = pipe_->take(t, cycle_of(e.avail), tests, visits, n);
   ++stats_.rays[static_cast<int>(frame_.rays[e.ray].kind)];
-  if (clock_.mode() == LocalClock::Mode::ahead) {  // an ideal bus takes the answer at its time
+  // An ideal bus takes the answer at its time, whenever it is sent: send it now, annotated
+  // with its time (the GPP acts on it only then), and the ray's slot is free at that time.
+  if (arch_.bus.model == BusModel::ideal) {
     pipe_->retire(k.handle, k.done, k.done);
     sc_time delay = time_of(k.done) - sc_time_stamp();
     send_answer(e.ray, w, delay);
@@ -221,9 +223,12 @@ void IntersectionUnit<T>::take(const RayEntry& e, Cycle t) {
   answer_queued_.notify();
 }
 
+// How far ahead of simulation time the pipeline may take a ray: `ahead`, without limit;
+// `quantum` (lt), up to the global quantum, as a decoupled serial unit runs; `exact`, not
+// at all (the ray leaves its FIFO at the simulated time the pipeline takes it).
 template <typename T>
 void IntersectionUnit<T>::run_pipelined() {
-  const bool ahead = clock_.mode() == LocalClock::Mode::ahead;
+  const LocalClock::Mode mode = clock_.mode();
   for (;;) {
     const Cycle ready = pipe_->ready();
     if (ready == PipelinedUnitTiming::kNever) {  // every ray slot waits for its answer to leave
@@ -232,13 +237,16 @@ void IntersectionUnit<T>::run_pipelined() {
       continue;
     }
     const sc_time at = time_of(ready);
-    if (!ahead && at > sc_time_stamp()) {  // exact: the ray leaves the FIFO when the pipeline takes it
+    const sc_time lead = mode == LocalClock::Mode::ahead     ? sc_max_time()
+                         : mode == LocalClock::Mode::quantum ? tlm_utils::tlm_quantumkeeper::get_global_quantum()
+                                                             : SC_ZERO_TIME;
+    if (at > sc_time_stamp() && at - sc_time_stamp() > lead) {
       activity_ = Activity::tracing;
       wait(at - sc_time_stamp());
       continue;
     }
     RayEntry e;
-    const sc_time now = ahead ? std::max(at, sc_time_stamp()) : sc_time_stamp();
+    const sc_time now = std::max(at, sc_time_stamp());
     if (!fifo->pop(e, now)) {
       activity_ = Activity::waiting_for_ray;
       wait(fifo->pushed_event());

@@ -16,10 +16,12 @@
 // With `"iu": {"model": "pipelined"}` the unit is a pipeline of a sphere, a transform and
 // a triangle unit with several rays in flight; its timing is hw/pipeline_timing.h's, and
 // its answers leave out of ray order, each at its own time. Where nothing can observe the
-// unit (`ahead`), it takes each ray as soon as the pipeline can and sends the answer at
-// once, annotated with its time. Otherwise (a bounded FIFO, a shared bus) two processes keep
-// simulated time exact: one pops each ray when the pipeline takes it, one sends each answer
-// when it is ready, in time order, and frees its ray slot when the bus has taken it.
+// unit (`ahead`), it takes each ray as soon as the pipeline can. Otherwise (a bounded FIFO,
+// a shared bus) it pops each ray at the simulated time the pipeline takes it. On an ideal
+// bus an answer takes no time and meets no other transfer: it is sent at once, annotated
+// with its time, and the GPP acts on it only then (gpp.cpp). On a shared bus a second
+// process sends each answer when it is ready, in time order, and frees its ray slot when
+// the bus has taken it.
 #pragma once
 
 #include "hw/functional_frame.h"

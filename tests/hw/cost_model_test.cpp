@@ -193,3 +193,30 @@ TEST_CASE("cost: sizes as the hardware stores them", "[cost]") {
   CHECK(ray_bytes(false) == 36);
   CHECK(ray_bytes(true) == 64);
 }
+
+TEST_CASE("cost: a pipelined unit's early exit saves only what it had not yet issued", "[cost][pipelined]") {
+  // Fully pipelined Moller (a unit per op, latency 1): det is known in cycle 3, by which
+  // time every op with its inputs ready has issued: tvx, tvy, tvz, the three d.n products
+  // (cycle 1); det', the six cross-product and three tv.n products (cycle 2); det, cx, cy,
+  // cz, t'' (cycle 3). The serial list schedule had issued 4 adds and 4 multiplies by then.
+  const OpCounts p = op_counts(Kernel::moller, [](const OpGraph& g) { return modulo_schedule(g, full_units(g)); });
+  CHECK(p.triangle[0] == FpOps{9, 12, 0, 0});
+  CHECK(p.triangle[3] == FpOps{15, 21, 3, 0});  // a full test is the same work either way
+  CHECK(p.sphere == op_counts(Kernel::moller).sphere);
+}
+
+TEST_CASE("cost: a pipelined unit's buffers are charged at the register file's price per byte", "[cost][pipelined]") {
+  const Tech t = load_tech(kDir + "65nm.json");
+  Design d = serial_units(2);
+  d.units[0].buffer_bytes = 512;  // one register file's worth
+  d.units[1].buffer_bytes = 256;
+  d.iu.register_files = 0;
+  const Cost a = area_mm2(t, d);
+  CHECK(*a.of("pipeline_buffers") == Approx(1.5 * 0.0147665));
+  CHECK(*a.of("register_files") == 0);
+  FrameActivity f;
+  f.units.resize(2);
+  f.units[1].buffer_access_bytes = 40;  // ten 4-byte registers
+  const Cost e = frame_energy_j(t, d, op_counts(Kernel::moller), f);
+  CHECK(*e.of("pipeline_buffers") == Approx(10 * 7.89613e-12));
+}
