@@ -156,6 +156,32 @@ std::optional<double> per_byte(const std::optional<double>& price, const std::op
   return *price / *bytes;
 }
 
+// Ray FIFOs: one smaller than the table's smallest SRAM is built from registers, and is
+// charged at the register file's price per byte (`rf_price` x `rf_quantity`, bytes) when
+// the table has one; the others as SRAM by capacity (charge_by_size).
+template <typename Capacity, typename Quantity, typename RfQuantity>
+void charge_fifos(Builder& b, const std::string& name, const SizeCurve& curve, std::optional<double> rf_price,
+                  const std::string& missing, std::size_t n, Capacity capacity, Quantity quantity,
+                  RfQuantity rf_quantity) {
+  const auto small = [&](std::size_t u) {
+    return rf_price && !curve.empty() && capacity(u) > 0 && capacity(u) < curve.points().front().bytes;
+  };
+  double registers = 0;
+  int count = 0;
+  for (std::size_t u = 0; u < n; ++u)
+    if (small(u) && quantity(u) > 0) registers += rf_quantity(u) * *rf_price, ++count;
+  Builder sram;
+  charge_by_size(sram, name, curve, missing, "ray FIFOs", n, capacity,
+                 [&](std::size_t u) { return small(u) ? 0.0 : quantity(u); });
+  Cost c = sram.take();
+  for (const std::string& note : c.notes) b.note(note);
+  if (count)
+    b.note(name + ": " + std::to_string(count) + " ray FIFOs smaller than the table's smallest SRAM (" +
+           bytes_text(curve.points().front().bytes) + ") are registers, charged at the register file's price per byte");
+  const std::optional<double> v = c.components.front().value;
+  b.put(name, v ? std::optional<double>(*v + registers) : std::nullopt);
+}
+
 void precision_note(Builder& b, const Design& d) {
   if (d.double_precision) b.note("the table's FP units are 32-bit: double precision is charged as single");
 }
@@ -183,10 +209,10 @@ Cost area_mm2(const Tech& t, const Design& d) {
       b, "object_memories", t.sram.area_mm2, "sram area", "object memories", units,
       [&](std::size_t u) { return static_cast<double>(d.units[u].object_memory_bytes); },
       [&](std::size_t u) { return d.units[u].object_memory_bytes ? 1.0 : 0.0; });
-  charge_by_size(
-      b, "ray_fifos", t.sram.area_mm2, "sram area", "ray FIFOs", units,
-      [&](std::size_t u) { return static_cast<double>(d.units[u].fifo_bytes); },
-      [&](std::size_t u) { return d.units[u].fifo_bytes ? 1.0 : 0.0; });
+  charge_fifos(b, "ray_fifos", t.sram.area_mm2, per_byte(t.register_file.area_mm2, t.register_file.bytes), "sram area",
+               units, [&](std::size_t u) { return static_cast<double>(d.units[u].fifo_bytes); },
+               [&](std::size_t u) { return d.units[u].fifo_bytes ? 1.0 : 0.0; },
+               [&](std::size_t u) { return static_cast<double>(d.units[u].fifo_bytes); });
   precision_note(b, d);
   return b.take();
 }
@@ -221,12 +247,15 @@ Cost frame_energy_j(const Tech& t, const Design& d, const OpCounts& per_op, cons
       b, "object_memory_writes", t.sram.read_energy_pj, "sram read_energy", "object memories", units,
       [&](std::size_t u) { return static_cast<double>(d.units[u].object_memory_bytes); },
       [&](std::size_t u) { return static_cast<double>(f.units[u].memory_write_bytes) / sram_access; });
-  charge_by_size(
-      b, "ray_fifo", t.sram.read_energy_pj, "sram read_energy", "ray FIFOs", units,
+  std::optional<double> rf_per_byte;
+  if (t.register_file.energy_pj && t.register_file.access_bytes) rf_per_byte = *t.register_file.energy_pj / *t.register_file.access_bytes;
+  const auto fifo_bytes_moved = [&](std::size_t u) {
+    return static_cast<double>(f.units[u].fifo_pushes + f.units[u].fifo_pops) * d.ray_bytes;
+  };
+  charge_fifos(
+      b, "ray_fifo", t.sram.read_energy_pj, rf_per_byte, "sram read_energy", units,
       [&](std::size_t u) { return static_cast<double>(d.units[u].fifo_bytes); },
-      [&](std::size_t u) {
-        return static_cast<double>(f.units[u].fifo_pushes + f.units[u].fifo_pops) * d.ray_bytes / sram_access;
-      });
+      [&](std::size_t u) { return fifo_bytes_moved(u) / sram_access; }, fifo_bytes_moved);
 
   double config = 0, dram = 0, buffers = 0;
   for (const UnitActivity& u : f.units) {

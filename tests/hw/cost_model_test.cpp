@@ -106,10 +106,15 @@ TEST_CASE("cost: memory, FIFO and configuration energy by hand", "[cost]") {
   // the 48 KiB interpolation between 169.293 pJ (32 KiB) and 237.390 pJ (64 KiB).
   const double e48k = t.sram.read_energy_pj.at(48 * 1024).value;
   CHECK(*e.of("object_memory_reads") == Approx((1.5 * 237.390 + 3 * e48k) * 1e-12));
-  // A push and a pop of a 36-byte ray in a 576-byte FIFO: below the table's 1 KiB, charged
-  // at 1 KiB's 57.741 pJ per 32-byte access, and noted.
-  CHECK(*e.of("ray_fifo") == Approx(2 * 36.0 / 32 * 57.741e-12));
-  CHECK(has_note(e, "ray_fifo: 1 ray FIFOs smaller than the table's smallest SRAM (1 KiB)"));
+  // A push and a pop of a 36-byte ray in a 576-byte FIFO: below the table's 1 KiB SRAM, so
+  // registers: 2 x 9 register accesses of 4 bytes at 7.89613 pJ, and noted.
+  CHECK(*e.of("ray_fifo") == Approx(2 * 9 * 7.89613e-12));
+  CHECK(has_note(e, "ray_fifo: 1 ray FIFOs smaller than the table's smallest SRAM (1 KiB) are registers"));
+  // A FIFO of 64 rays (2304 bytes) is an SRAM: 36/32 accesses each way at the 2 to 4 KiB interpolation.
+  Design deep = d;
+  deep.units[0].fifo_bytes = 64 * 36;
+  const double e2304 = t.sram.read_energy_pj.at(2304).value;
+  CHECK(*frame_energy_j(t, deep, op_counts(Kernel::moller), f).of("ray_fifo") == Approx(2 * 36.0 / 32 * e2304 * 1e-12));
   // 68 configuration bytes: 17 register writes.
   CHECK(*e.of("configuration") == Approx(17 * 7.89613e-12));
 }
@@ -127,9 +132,10 @@ TEST_CASE("cost: the area of a two-unit configuration at 65 nm, by hand", "[cost
   CHECK(*a.of("register_files") == Approx(2 * 0.0147665));
   CHECK(*a.of("configuration_registers") == Approx(136 * 0.0147665 / 512));  // register-file area per byte
   CHECK(*a.of("object_memories") == Approx(0.656136 + 0.328905));            // the 64 and 32 KiB points
-  CHECK(*a.of("ray_fifos") == Approx(2 * 0.045308));                         // 576 bytes: the 1 KiB point
+  // 576 bytes, below the 1 KiB SRAM: registers, at the register file's area per byte.
+  CHECK(*a.of("ray_fifos") == Approx(2 * 576 * 0.0147665 / 512));
   CHECK(a.total == Approx(2 * (0.003311 + 0.010327 + 0.0147665) + 136 * 0.0147665 / 512 + 0.656136 + 0.328905 +
-                          2 * 0.045308));
+                          2 * 576 * 0.0147665 / 512));
   CHECK(has_note(a, "ray_fifos: 2 ray FIFOs smaller"));
 
   // A pipelined unit with more FP units: the area counts them per unit.
