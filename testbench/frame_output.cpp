@@ -23,6 +23,8 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   fs.refit_cycles = run.refit_cycles;
   fs.built_nodes = run.built_nodes;
   fs.image_hash = image.hash();
+  fs.frame_time_s = static_cast<double>(run.makespan) * job.arch.cycle_ns() * 1e-9;
+  if (job.arch.iu.model == IuModel::pipelined) fs.pipeline = hw::pipeline_config(job.arch, hw::Bytes<T>::triangle(job.arch.kernel));
   fs.sphere_cycles.assign(geometry.sphere_count(), 0);
   fs.sphere_entries.assign(geometry.sphere_count(), {});
   for (int k = 0; k < kRayKinds; ++k)
@@ -38,8 +40,16 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
     for (std::uint32_t s : us.spheres) us.primitives += geometry.triangles_in(s);
     us.rays = r.rays;
     us.cycles = r.cycles;
-    const std::uint64_t used = r.cycles.busy() + r.cycles.stall;
+    us.pipeline = r.pipeline;
+    // Pipelined: idle while it holds no ray (its stall overlaps the stages' work).
+    const std::uint64_t used = r.pipeline ? r.pipeline->occupied : r.cycles.busy() + r.cycles.stall;
     us.idle = fs.makespan > used ? fs.makespan - used : 0;
+    us.fifo_pushes = r.fifo_pushes;
+    us.fifo_pops = r.fifo_pops;
+    us.fifo_peak = r.fifo_peak;
+    us.memory_load_bytes = r.memory_load_bytes;
+    us.config_bytes = us.spheres.size() * hw::Bytes<T>::sphere_config;
+    for (std::uint32_t s : us.spheres) us.memory_capacity_bytes += geometry.memory_bytes(s);
     for (int k = 0; k < kRayKinds; ++k) {
       for (std::uint32_t s : us.spheres) us.work[k] += run.per_sphere[k][s];
       us.work[k].node_tests = r.node_tests[k];  // the unit's, never a sphere's
@@ -50,6 +60,7 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
     us.memory = r.memory;
     fs.units.push_back(std::move(us));
   }
+  if (job.cost) fs.energy = job.cost->frame(fs);
   return fs;
 }
 
@@ -58,6 +69,7 @@ void finish_frame(RenderJob& job, StatsWriter* stats, const FrameStats& fs, Fram
     const auto dir = std::filesystem::path(job.out_dir);
     write_exr((dir / frame_name(fs.frame, "exr")).string(), image);
     write_png((dir / frame_name(fs.frame, "png")).string(), image);
+    if (job.cost) stats->set_area(job.cost->area());
     stats->add(fs);
     if (job.progress) std::fprintf(stderr, "\r\033[K");
     std::printf("frame %4d  makespan %llu cycles  efficiency %.3f  %llu rays  %.2f s  (%.3g rays/s)\n", fs.frame,

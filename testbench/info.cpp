@@ -21,6 +21,10 @@ int run_info(const CommonOptions& o) {
       const Schedule s = list_schedule(*g);
       std::printf("%s\n", s.table().c_str());
     }
+    // The pipelined IU's units at their default (a unit per op: II 1, latency 1 per op).
+    for (const OpGraph* g : {&sphere_stable_graph(), &transform_graph(), &moller_graph(), &transform_watertight_graph(),
+                              &watertight_graph()})
+      std::printf("%s\n", modulo_schedule(*g, full_units(*g)).table().c_str());
     if (o.scene.empty()) return 0;
   }
   if (o.scene.empty()) throw InputError("oprt info", "SCENE", "a scene file is required (or --schedules)");

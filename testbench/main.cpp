@@ -90,6 +90,9 @@ int main(int argc, char** argv) {
                      "in front of DRAM (0: no limit)");
   render->add_option("--kernel", ro.kernel, "moller | watertight")->check(CLI::IsMember({"moller", "watertight"}));
   render->add_option("--precision", ro.precision, "float | double")->check(CLI::IsMember({"float", "double"}));
+  render->add_option("--iu", ro.iu, "serial | pipelined: the intersection unit's microarchitecture")
+      ->check(CLI::IsMember({"serial", "pipelined"}));
+  render->add_option("--tech", ro.tech, "technology table for area and energy (default: the built-in testbench/tech/65nm.json)");
   render->add_option("--resolution", ro.resolution, "WxH; default: the scene's");
   render->add_option("--out", ro.out, "output directory");
   render->add_option("--vcd", ro.vcd, "write a waveform trace to this file: VCD, or GTKWave's FST if it ends in .fst");
@@ -98,7 +101,7 @@ int main(int argc, char** argv) {
   render->add_option("--trace-frames", ro.trace_frames, "trace only frames N or A:B (inclusive)");
   render->add_option("--trace-window", ro.trace_window, "trace only simulated times T0:T1, e.g. 10us:2ms");
   render->add_option("--trace-units", ro.trace_units, "trace only these intersection units, e.g. 0-3,7");
-  render->add_option("--trace-signals", ro.trace_signals, "trace only these signal groups: state,fifo,bus,gpp,memory");
+  render->add_option("--trace-signals", ro.trace_signals, "trace only these signal groups: state,fifo,bus,gpp,memory,stage");
   render->add_option("--trace-buffer", ro.trace_buffer,
                      "value changes the --vcd writer may hold ahead of simulation time before units running ahead "
                      "wait (default 262144, 16 bytes each)")

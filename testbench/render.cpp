@@ -1,6 +1,7 @@
 #include "render.h"
 
 #include "balance/policy.h"
+#include "hw/pipeline_timing.h"
 #include "ref/parallel.h"
 #include "ref/scene_geometry.h"
 #include "scene/error.h"
@@ -42,6 +43,8 @@ Arch resolve_arch(const RenderOptions& o) {
     a.kernel = *k;
   }
   if (o.precision) a.precision = *o.precision;
+  if (o.iu) a.iu.model = *o.iu == "pipelined" ? IuModel::pipelined : IuModel::serial;
+  check_arch(a);
   return a;
 }
 
@@ -117,6 +120,18 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
                 {"resolution", {job.width, job.height}},
                 {"arch", to_json(job.arch)},
                 {"threads", thread_count()}};
+  job.cost = std::make_shared<RunCost>(o.tech, job.arch, units);
+  job.header.update(job.cost->header());
+  if (job.arch.iu.model == IuModel::pipelined) {  // each unit's schedule: its II and latency
+    const hw::PipelineSchedules p = hw::pipeline_schedules(job.arch);
+    nlohmann::json stages = nlohmann::json::object();
+    for (int s = 0; s < hw::kPipeStages; ++s) {
+      const FpUnits u = hw::stage_units(job.arch, static_cast<hw::PipeStage>(s), *p.stage[s].graph);
+      stages[hw::to_string(static_cast<hw::PipeStage>(s))] = {
+          {"ii", p.stage[s].ii}, {"latency", p.stage[s].length()}, {"adders", u.adders}, {"multipliers", u.multipliers}};
+    }
+    job.header["iu_stages"] = stages;
+  }
   const LoadOptions load = load_options_for(o.load, o.max_object_triangles, object_split_named(job.arch.split, o.scene));
   job.header["load_options"] = {{"aff_max_object_triangles", load.aff.max_object_triangles},
                                 {"aff_sphere_segments", load.aff.sphere_segments},

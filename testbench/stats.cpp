@@ -10,7 +10,7 @@ namespace oprt {
 
 std::uint64_t FrameStats::busy() const {
   std::uint64_t b = 0;
-  for (const auto& u : units) b += u.cycles.busy();
+  for (const auto& u : units) b += u.busy_cycles();
   return b;
 }
 
@@ -35,6 +35,33 @@ nlohmann::json work_json(const WorkCounts& w) {
           {"box_tests", w.box_tests},
           {"node_tests", w.node_tests}};
 }
+// A pipelined unit's stages: per stage busy (issuing), stall (frozen by a full output
+// queue; the sphere unit also without a free ray slot; the triangle unit waiting for
+// object memory), starved (its input queue empty while the unit holds rays) and idle (the
+// unit holds no ray); they add up to the makespan.
+nlohmann::json stages_json(const hw::PipelineStats& p, const hw::PipelineConfig& c, std::uint64_t makespan) {
+  nlohmann::json stages = nlohmann::json::object();
+  const std::uint64_t idle = makespan > p.occupied ? makespan - p.occupied : 0;
+  for (int s = 0; s < hw::kPipeStages; ++s) {
+    const hw::StageCycles& st = p.stage[s];
+    const std::uint64_t used = st.busy + st.full + st.memory;
+    nlohmann::json j = {{"busy", st.busy},
+                        {"stall_queue_full", st.full},
+                        {"stall_queue_empty", p.occupied > used ? p.occupied - used : 0},
+                        {"idle", idle},
+                        {"ii", c.stage[s].ii},
+                        {"latency", c.stage[s].latency}};
+    if (s == static_cast<int>(hw::PipeStage::triangle)) j["stall_memory"] = st.memory;
+    stages[hw::to_string(static_cast<hw::PipeStage>(s))] = j;
+  }
+  return {{"stages", stages},
+          {"occupied_cycles", p.occupied},
+          {"answer_wait_cycles", p.answer_wait},
+          {"jobs", p.jobs},
+          {"triangle_tests", p.triangles},
+          {"queue_peak", {{"transform", p.peak_queue[0]}, {"triangle", p.peak_queue[1]}}},
+          {"rays_in_flight_peak", p.peak_in_flight}};
+}
 }  // namespace
 
 nlohmann::json to_json(const FrameStats& f) {
@@ -51,7 +78,7 @@ nlohmann::json to_json(const FrameStats& f) {
                                  {"node", u.cycles.node},
                                  {"idle", u.idle},
                                  {"stall", u.cycles.stall}}},
-                     {"busy_cycles", u.cycles.busy()},
+                     {"busy_cycles", u.busy_cycles()},
                      {"memory_bytes_read", u.memory_bytes},
                      {"memory", {{"cache", u.cache},
                                  {"assigned_bytes", u.assigned_bytes},
@@ -59,12 +86,15 @@ nlohmann::json to_json(const FrameStats& f) {
                                  {"misses", u.memory.misses},
                                  {"dram_bytes", u.memory.dram_bytes},
                                  {"stall_cycles", u.memory.stall}}},
+                     {"memory_load_bytes", u.memory_load_bytes},
+                     {"fifo", {{"pushes", u.fifo_pushes}, {"pops", u.fifo_pops}, {"peak", u.fifo_peak}}},
                      {"work", {{"primary", work_json(u.work[0])}, {"shadow", work_json(u.work[1])}}}});
+    if (u.pipeline && f.pipeline) units.back()["pipeline"] = stages_json(*u.pipeline, *f.pipeline, f.makespan);
   }
   const double rays = static_cast<double>(f.rays[0] + f.rays[1]);
   char hash[32];
   std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(f.image_hash));
-  return {{"frame", f.frame},
+  nlohmann::json j = {{"frame", f.frame},
           {"makespan_cycles", f.makespan},
           {"parallel_efficiency", f.efficiency()},
           {"idle_fraction", f.idle_fraction()},
@@ -80,6 +110,18 @@ nlohmann::json to_json(const FrameStats& f) {
           {"sphere_cycles", f.sphere_cycles},
           {"sphere_entries", f.sphere_entries},
           {"ius", units}};
+  j["frame_time_s"] = f.frame_time_s;
+  if (f.energy) {
+    j["energy_j"] = f.energy->to_json();
+    if (!f.energy->notes.empty()) j["energy_notes"] = f.energy->notes;
+  }
+  return j;
+}
+
+void StatsWriter::set_area(const Cost& area) {
+  doc_["area_mm2"] = area.to_json();
+  if (!area.notes.empty()) doc_["area_notes"] = area.notes;
+  area_total_ = area.total;
 }
 
 StatsWriter::StatsWriter(std::string dir, nlohmann::json header) : dir_(std::move(dir)), doc_(std::move(header)) {}
@@ -87,9 +129,11 @@ StatsWriter::StatsWriter(std::string dir, nlohmann::json header) : dir_(std::mov
 void StatsWriter::add(const FrameStats& f) {
   frames_.push_back(f);
   nlohmann::json frames = nlohmann::json::array();
-  double wall = 0, eff = 0, idle = 0;
+  double wall = 0, eff = 0, idle = 0, energy = 0, frame_time = 0;
   std::uint64_t makespan = 0, rays = 0, busy = 0, load_bytes = 0, load_cycles = 0, refit_cycles = 0;
   for (const FrameStats& x : frames_) {
+    if (x.energy) energy += x.energy->total;
+    frame_time += x.frame_time_s;
     frames.push_back(to_json(x));
     wall += x.wall_s;
     eff += x.efficiency();
@@ -112,7 +156,9 @@ void StatsWriter::add(const FrameStats& f) {
                     {"gpp_refit_cycles_total", refit_cycles},
                     {"wall_s", wall},
                     {"rays", rays},
-                    {"rays_per_wall_s", wall > 0 ? rays / wall : 0}};
+                    {"rays_per_wall_s", wall > 0 ? rays / wall : 0},
+                    {"frame_time_s_total", frame_time}};
+  if (frames_.back().energy) doc["summary"]["energy_j_total"] = energy;
   doc["frames"] = frames;
   const auto dir = std::filesystem::path(dir_);
   write_atomically((dir / "stats.json").string(), [&](const std::string& tmp) {
@@ -123,15 +169,21 @@ void StatsWriter::add(const FrameStats& f) {
   });
   write_atomically((dir / "stats.csv").string(), [&](const std::string& tmp) {
     std::ofstream out(tmp);
-    // box (--accel bvh) and node (--top bvh) last, so that existing column positions stay.
+    // box (--accel bvh), node (--top bvh) and the frame's totals last, so that existing
+    // column positions stay.
     out << "frame,iu,spheres,primitives,rays,sphere,transform,primitive,idle,stall,busy,makespan,parallel_efficiency,"
-           "box,node\n";
+           "box,node,frame_time_s,energy_j,area_mm2\n";
     for (const FrameStats& x : frames_)
-      for (const UnitFrameStats& u : x.units)
+      for (const UnitFrameStats& u : x.units) {
         out << x.frame << ',' << u.id << ',' << u.spheres.size() << ',' << u.primitives << ',' << u.rays << ','
             << u.cycles.sphere << ',' << u.cycles.transform << ',' << u.cycles.primitive << ',' << u.idle << ','
-            << u.cycles.stall << ',' << u.cycles.busy() << ',' << x.makespan << ',' << x.efficiency() << ','
-            << u.cycles.box << ',' << u.cycles.node << '\n';
+            << u.cycles.stall << ',' << u.busy_cycles() << ',' << x.makespan << ',' << x.efficiency() << ','
+            << u.cycles.box << ',' << u.cycles.node << ',' << x.frame_time_s << ',';
+        if (x.energy) out << x.energy->total;
+        out << ',';
+        if (area_total_) out << *area_total_;
+        out << '\n';
+      }
     out.close();  // a failed flush (disk full) must not be renamed into place
     if (!out) throw std::runtime_error("cannot write " + tmp);
   });

@@ -5,11 +5,14 @@
 
 #include "hw/arch.h"
 #include "hw/cache.h"
+#include "hw/cost_model.h"
+#include "hw/pipeline_timing.h"
 #include "hw/unit_cycles.h"
 #include "ref/work.h"
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +35,15 @@ struct UnitFrameStats {
   bool cache = false;
   std::uint64_t assigned_bytes = 0;
   hw::CacheCounts memory;
+  std::uint64_t memory_load_bytes = 0;      // geometry loaded into its object memory this frame
+  std::uint64_t memory_capacity_bytes = 0;  // the geometry its assignment holds
+  std::uint64_t config_bytes = 0;           // its configuration registers written this frame
+  std::uint64_t fifo_pushes = 0, fifo_pops = 0, fifo_peak = 0;  // peak: over the run so far, in time order
+  std::optional<hw::PipelineStats> pipeline;  // a pipelined unit's stages
+
+  // Serial: the cycles it computed. Pipelined: the cycles it held at least one ray (its
+  // stages work side by side, so their issue cycles can add up to more than the makespan).
+  std::uint64_t busy_cycles() const { return pipeline ? pipeline->occupied : cycles.busy(); }
 };
 
 struct FrameStats {
@@ -47,6 +59,10 @@ struct FrameStats {
   std::vector<UnitFrameStats> units;
   std::vector<std::uint64_t> sphere_cycles;  // per sphere: busy cycles spent on it (whichever unit)
   std::vector<std::array<std::uint64_t, kRayKinds>> sphere_entries;  // per sphere: rays entering it, by kind
+  double frame_time_s = 0;      // the makespan at the architecture's clock
+  std::optional<Cost> energy;   // with a technology table (--tech)
+  // Pipelined units: per stage its initiation interval and latency (the same for every unit).
+  std::optional<hw::PipelineConfig> pipeline;
 
   std::uint64_t busy() const;
   // Sum of busy cycles / (units x makespan).
@@ -60,11 +76,14 @@ class StatsWriter {
   // Adds the frame and rewrites both files (atomically): an interrupted run leaves the
   // stats of every completed frame.
   void add(const FrameStats& f);
+  // The run's area (a technology table): kept in the header, its total in every CSV row.
+  void set_area(const Cost& area);
 
  private:
   std::string dir_;
   nlohmann::json doc_;
   std::vector<FrameStats> frames_;
+  std::optional<double> area_total_;
 };
 
 nlohmann::json to_json(const FrameStats& f);

@@ -101,7 +101,12 @@ class Testbench : public sc_module {
       vcd_ = std::make_unique<VcdWriter>(job_.vcd_path);
       vcd_->set_filter(
           [&sel](const std::string& scope, const std::string& name) { return sel.traces_signal(scope, name); });
-      vcd_->set_horizon([] { return sc_time_stamp().value(); });
+      vcd_->set_horizon([this] {  // no process reports behind simulation time, nor a pipelined unit behind its floor
+        sc_time::value_type h = sc_time_stamp().value();
+        if (engine_ && job_.arch.iu.model == IuModel::pipelined)
+          for (std::size_t u = 0; u < engine_->units(); ++u) h = std::min(h, engine_->unit(u).trace_floor().value());
+        return h;
+      });
       vcd_->set_budget(job_.trace_budget);
     }
     if (!job_.timeline_path.empty()) {
@@ -163,6 +168,7 @@ class Testbench : public sc_module {
     for (std::size_t u = 0; u < engine_->units(); ++u) {
       engine_->unit(u).reset_stats();
       engine_->memory(u).reset_stats();
+      engine_->fifo(u).reset_counts();
     }
     engine_->bus().reset_stats();
   }
@@ -193,13 +199,24 @@ class Testbench : public sc_module {
       // Through a cache the memory stall is the cache's (the trace's is on-chip memory's).
       if (r.cache) r.cycles.stall = s.cache_stall;
       else r.memory.stall = r.cycles.stall;
-      if (s.charged != r.cycles.busy() + r.cycles.stall)
-        SC_REPORT_FATAL("testbench", ("unit " + std::to_string(u) + " waited out other cycles than its work").c_str());
-      r.cycles.stall += s.bus_stall;
+      if (s.pipeline) {  // its stages work side by side: each one's issue cycles, and the unit's stalls
+        r.cycles = hw::pipelined_cycles(*s.pipeline);
+        r.memory.stall = s.pipeline->stage[2].memory;
+      } else {
+        if (s.charged != r.cycles.busy() + r.cycles.stall)
+          SC_REPORT_FATAL("testbench", ("unit " + std::to_string(u) + " waited out other cycles than its work").c_str());
+        r.cycles.stall += s.bus_stall;
+      }
       r.rays = s.rays[0] + s.rays[1];
       r.memory_bytes = m.bytes_read();
       for (int k = 0; k < kRayKinds; ++k) r.node_tests[k] = engine_->functional().unit_node_tests[u][k];
       r.assigned_bytes = hw::assigned_bytes(geometry_, job_.assignment.unit[u]);
+      r.pipeline = s.pipeline;
+      hw::RayFifo& fifo = engine_->fifo(u);
+      r.fifo_pushes = fifo.pushes();
+      r.fifo_pops = fifo.pops();
+      r.fifo_peak = fifo.peak_occupancy();
+      if (u < g.unit_memory_load_bytes.size()) r.memory_load_bytes = g.unit_memory_load_bytes[u];
       run.units.push_back(r);
     }
     run.per_sphere = engine_->functional().per_sphere;

@@ -6,6 +6,7 @@
 #include "balance/assign.h"
 #include "hw/engine.h"
 #include "options.h"
+#include "run_cost.h"
 #include "stats.h"
 #include "trace_select.h"
 
@@ -28,6 +29,7 @@ struct RenderJob {
   Assignment assignment;
   bool progress = false;
   nlohmann::json header;  // resolved configuration, for stats.json
+  std::shared_ptr<RunCost> cost;  // area and energy (a technology table)
   int completed = 0;      // frames written
   std::exception_ptr error;  // what stopped the simulation thread, if anything
   bool write_files = true;   // frames and stats into out_dir

@@ -31,6 +31,7 @@ const GroupRule kGroups[] = {
     {"bus", [](const std::string& b, const std::string&) { return b == "bus"; }},
     {"gpp", [](const std::string& b, const std::string&) { return b == "gpp"; }},
     {"memory", [](const std::string& b, const std::string&) { return b == "memory"; }},  // --sram: misses
+    {"stage", [](const std::string& b, const std::string&) { return b == "stage"; }},    // --iu pipelined
 };
 // Blocks that belong to one intersection unit (their number is the unit's).
 bool per_unit(const std::string& block) { return block == "iu" || block == "fifo" || block == "memory"; }

@@ -44,7 +44,7 @@ void parse_trace_window(const std::string& text, std::uint64_t& from_ps, std::ui
 std::vector<int> parse_trace_units(const std::string& text);
 // Checks units against the run's unit count.
 void check_trace_units(const std::string& text, const std::vector<int>& units, std::size_t unit_count);
-// "state,fifo,bus,gpp,memory".
+// "state,fifo,bus,gpp,memory,stage".
 std::vector<std::string> parse_trace_signals(const std::string& text);
 // "1.5ms" as picoseconds ("0" needs no unit).
 std::uint64_t parse_time_ps(const std::string& text, const std::string& option);

@@ -90,6 +90,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
         caches_[u].invalidate(first / cc.line_bytes, (end + cc.line_bytes - 1) / cc.line_bytes);
     cached_[u] = cache ? 1 : 0;
     out.memory_load_bytes += bytes;
+    out.units[u].memory_load_bytes += bytes;
     const Cycles before = g;
     g = transfer(g, bytes);
     out.memory_load_cycles += g - before;
@@ -121,15 +122,21 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     g = transfer(g, assignment_[u].size() * Bytes<T>::sphere_config + regs[u].top.size() * Bytes<T>::top_node);
   const CameraRays camera(cmd.camera, cmd.width, cmd.height);
   const Shader<T> shader(scene_, setup);
-  // Caches time each visit: they need the records' detail.
+  // Caches and pipelines time each visit: they need the records' detail.
   const bool caches = std::find(cached_.begin(), cached_.end(), 1) != cached_.end();
-  trace_functional(frame_, geom_, regs, camera, shader, arch_, cmd.width, cmd.height, caches);
+  const bool pipelined = arch_.iu.model == IuModel::pipelined;
+  trace_functional(frame_, geom_, regs, camera, shader, arch_, cmd.width, cmd.height, caches || pipelined);
   const FunctionalFrame<T>& f = frame_;
 
   const std::size_t pixels = static_cast<std::size_t>(cmd.width) * cmd.height;
   std::vector<Cycles> last_pop;  // per ray in issue order: when the last FIFO popped it (FIFO room)
   last_pop.reserve(f.ray_count());
   std::vector<Cycles> unit_free(units, 0);
+  // Each frame's time starts at 0 here, and every unit is idle when a frame starts.
+  if (pipelined) pipes_.assign(units, PipelinedUnitTiming(pipeline_config(arch_, Bytes<T>::triangle(arch_.kernel))));
+  fifo_peak_.resize(units, 0);
+  // Per unit: pop times of rays still queued at the latest push (FIFO occupancy in time).
+  std::vector<std::deque<Cycles>> queued(units);
   std::priority_queue<Completion, std::vector<Completion>, std::greater<Completion>> completed;
   std::deque<std::uint32_t> shadow_queue;
   const unsigned depth = static_cast<unsigned>(arch_.fifo_depth);
@@ -178,14 +185,38 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     Cycles done_all = 0, popped = 0;
     for (std::uint32_t u = 0; u < units; ++u) {
       UnitRun& ur = out.units[u];
-      const Cycles start = std::max(unit_free[u], avail);
       const UnitRayWork* w = f.find(id, u);
-      const Cycles end = cached_[u] && w && entered(f.units[u], w) ? through_cache(u, f.rays[id], *w, start)
-                                                                  : start + f.cycles(w, u);
-      const Cycles done = transfer(end, answer);
-      ur.cycles.stall += done - end;  // the bus; busy cycles are the trace's (below)
+      Cycles start, done;
+      if (pipelined) {
+        PipelinedUnitTiming& p = pipes_[u];
+        start = std::max(static_cast<Cycles>(p.ready()), avail);
+        const UnitTrace<T>& ut = f.units[u];
+        const VisitWork* visits = nullptr;
+        std::uint32_t n = 0, tests = f.unit_entries[u];
+        if (w) {
+          const std::uint32_t i = ut.index(w);
+          visits = ut.visits.data() + ut.visit_first[i];
+          n = ut.visit_first[i + 1] - ut.visit_first[i];
+          tests = ut.sphere_tests[i];
+        }
+        const auto k = p.take(static_cast<Cycle>(start), static_cast<Cycle>(avail), tests, visits, n);
+        done = transfer(static_cast<Cycles>(k.done), answer);
+        p.retire(k.handle, k.done, static_cast<Cycle>(done));
+      } else {
+        start = std::max(unit_free[u], avail);
+        const Cycles end = cached_[u] && w && entered(f.units[u], w) ? through_cache(u, f.rays[id], *w, start)
+                                                                    : start + f.cycles(w, u);
+        done = transfer(end, answer);
+        ur.cycles.stall += done - end;  // the bus; busy cycles are the trace's (below)
+        unit_free[u] = done;
+      }
       ++ur.rays;
-      unit_free[u] = done;
+      ++ur.fifo_pushes;
+      ++ur.fifo_pops;
+      std::deque<Cycles>& q = queued[u];
+      while (!q.empty() && q.front() <= avail) q.pop_front();
+      fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], q.size() + 1);
+      q.push_back(start);
       done_all = std::max(done_all, done);
       popped = std::max(popped, start);
     }
@@ -222,11 +253,18 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   *cmd.image = f.image;
   out.per_sphere = f.per_sphere;
   for (std::size_t u = 0; u < units; ++u) {
-    const std::uint64_t bus_stall = out.units[u].cycles.stall;
-    out.units[u].cycles = f.unit_cycles[u];
-    if (out.units[u].cache) out.units[u].cycles.stall = out.units[u].memory.stall;  // the cache's, not on-chip memory's
-    else out.units[u].memory.stall = f.unit_cycles[u].stall;
-    out.units[u].cycles.stall += bus_stall;
+    out.units[u].fifo_peak = fifo_peak_[u];
+    if (pipelined) {  // its stages work side by side: each one's issue cycles, and the unit's stalls
+      out.units[u].pipeline = pipes_[u].stats();
+      out.units[u].cycles = pipelined_cycles(pipes_[u].stats());
+      out.units[u].memory.stall = pipes_[u].stats().stage[2].memory;
+    } else {
+      const std::uint64_t bus_stall = out.units[u].cycles.stall;
+      out.units[u].cycles = f.unit_cycles[u];
+      if (out.units[u].cache) out.units[u].cycles.stall = out.units[u].memory.stall;  // the cache's, not on-chip memory's
+      else out.units[u].memory.stall = f.unit_cycles[u].stall;
+      out.units[u].cycles.stall += bus_stall;
+    }
     for (int k = 0; k < kRayKinds; ++k) {
       out.units[u].node_tests[k] = f.unit_node_tests[u][k];
       for (std::uint32_t s : assignment_[u]) {

@@ -10,6 +10,9 @@
 // when it is issued. Under the paper's ideal architecture this is exactly the timing of
 // `at`. With a shared bus it is approximate: a later-issued ray's answer may in truth take
 // the bus before an earlier-issued one's, and the calendar grants in issue order instead.
+// A pipelined unit (`"iu": {"model": "pipelined"}`) is timed by the same model as the
+// SystemC unit's (pipeline_timing.h): it takes ray k at max(when the pipeline can take a
+// ray, when ray k arrived), and its answer leaves when the bus has carried it.
 // Not a SystemC module: plain C++, one call per frame.
 #pragma once
 
@@ -18,10 +21,12 @@
 #include "hw/calendar.h"
 #include "hw/functional_frame.h"
 #include "hw/payloads.h"
+#include "hw/pipeline_timing.h"
 #include "hw/unit_cycles.h"
 #include "hw/visit_stream.h"
 #include "scene/scene.h"
 
+#include <optional>
 #include <vector>
 
 namespace oprt::hw {
@@ -35,6 +40,10 @@ struct UnitRun {
   bool cache = false;  // its spheres did not fit its object memory (memory.sram_bytes)
   std::uint64_t assigned_bytes = 0;
   CacheCounts memory;  // through the cache; stall: the memory's, whichever it is
+  std::uint64_t memory_load_bytes = 0;      // geometry loaded into its object memory this frame
+  std::uint64_t fifo_pushes = 0, fifo_pops = 0;
+  std::uint64_t fifo_peak = 0;              // most rays its FIFO held at once, over the run so far
+  std::optional<PipelineStats> pipeline;    // a pipelined unit's stages
 };
 
 struct FrameRun {
@@ -71,6 +80,8 @@ class AnalyticEngine {
   std::vector<MissWindow> windows_;
   void cold_cache(std::size_t u);
   FunctionalFrame<T> frame_;
+  std::vector<PipelinedUnitTiming> pipes_;  // pipelined units
+  std::vector<std::uint64_t> fifo_peak_;    // per unit, over the run
 };
 
 extern template class AnalyticEngine<float>;

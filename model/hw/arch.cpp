@@ -18,6 +18,7 @@ const char* to_string(CacheReplacement r) {
   return r == CacheReplacement::lru ? "lru" : r == CacheReplacement::fifo ? "fifo" : "random";
 }
 const char* to_string(DramPath p) { return p == DramPath::channel ? "channel" : "bus"; }
+const char* to_string(IuModel m) { return m == IuModel::serial ? "serial" : "pipelined"; }
 
 double parse_time_ns(const std::string& text, const std::string& what) {
   const char* s = text.c_str();
@@ -74,6 +75,37 @@ void read_kernel_costs(const JsonIn& j, Kernel k, KernelCosts& c) {
 nlohmann::json stage_costs_json(const KernelCosts& c) {
   return {c.tri_stage[0], c.tri_stage[1], c.tri_stage[2], c.tri_stage[3]};
 }
+
+void read_iu(const JsonIn& j, IuConfig& iu) {
+  j.only_keys({"model", "rays_in_flight", "queue_depth", "fp_latency", "sphere", "transform", "triangle"});
+  if (auto v = j.find("model"))
+    iu.model = choose<IuModel>(*v, {{"serial", IuModel::serial}, {"pipelined", IuModel::pipelined}});
+  iu.rays_in_flight = static_cast<int>(j.integer_or("rays_in_flight", iu.rays_in_flight, 1, 4096));
+  iu.queue_depth = static_cast<int>(j.integer_or("queue_depth", iu.queue_depth, 0, 1 << 20));
+  if (auto l = j.find("fp_latency")) {
+    l->only_keys({"add", "multiply"});
+    iu.add_latency = static_cast<int>(l->integer_or("add", iu.add_latency, 1, 64));
+    iu.multiply_latency = static_cast<int>(l->integer_or("multiply", iu.multiply_latency, 1, 64));
+  }
+  for (auto [key, unit] : {std::pair{"sphere", &iu.sphere}, {"transform", &iu.transform}, {"triangle", &iu.triangle}}) {
+    if (auto u = j.find(key)) {
+      u->only_keys({"adders", "multipliers"});
+      unit->adders = static_cast<int>(u->integer_or("adders", unit->adders, 0, 1024));
+      unit->multipliers = static_cast<int>(u->integer_or("multipliers", unit->multipliers, 0, 1024));
+    }
+  }
+}
+
+nlohmann::json iu_json(const IuConfig& iu) {
+  const auto unit = [](const IuConfig::Unit& u) { return nlohmann::json{{"adders", u.adders}, {"multipliers", u.multipliers}}; };
+  return {{"model", to_string(iu.model)},
+          {"rays_in_flight", iu.rays_in_flight},
+          {"queue_depth", iu.queue_depth},
+          {"fp_latency", {{"add", iu.add_latency}, {"multiply", iu.multiply_latency}}},
+          {"sphere", unit(iu.sphere)},
+          {"transform", unit(iu.transform)},
+          {"triangle", unit(iu.triangle)}};
+}
 }  // namespace
 
 void check_sram(const Arch& a, const std::string& file, const std::string& place) {
@@ -88,7 +120,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   const JsonIn root(doc, file);
   root.only_keys({"format", "comment", "clock_mhz", "ius", "costs", "ray_fifo_depth", "bus", "memory", "gpp",
                   "level", "quantum", "balance", "subdivide", "split_rule", "split", "accel", "top", "kernel", "precision",
-                  "sync_every_ray"});
+                  "sync_every_ray", "iu"});
   const std::string format = root.at("format").string();
   if (format != "oprt-arch/1") root.at("format").fail("unsupported format \"" + format + "\" (expected oprt-arch/1)");
   Arch a;
@@ -168,7 +200,23 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   if (auto v = root.find("kernel")) a.kernel = *kernel_named(one_of(*v, {"moller", "watertight"}));
   if (auto v = root.find("precision")) a.precision = one_of(*v, {"float", "double"});
   a.sync_every_ray = root.boolean_or("sync_every_ray", a.sync_every_ray);
+  if (auto v = root.find("iu")) read_iu(*v, a.iu);
   return a;
+}
+
+void check_arch(const Arch& a) {
+  if (a.iu.model == IuModel::pipelined && a.accel == "bvh")
+    throw InputError(a.source, "iu.model pipelined with accel bvh",
+                     "the pipelined IU models brute force inside spheres only (a BVH walk needs a box unit, which is "
+                     "not modelled): use --iu serial with --accel bvh");
+  if (a.iu.model == IuModel::pipelined && a.top_tree())
+    throw InputError(a.source, "iu.model pipelined with top bvh",
+                     "the pipelined IU's sphere unit tests a flat list (a tree over the spheres needs a node unit, "
+                     "which is not modelled): use --iu serial with --top bvh");
+  if (a.iu.model == IuModel::pipelined && a.memory.sram_bytes != 0)
+    throw InputError(a.source, "iu.model pipelined with memory.sram_bytes",
+                     "the pipelined IU's triangle unit reads an object memory that holds its spheres (a cache's "
+                     "misses are not modelled in the pipeline): use --iu serial with --sram");
 }
 
 Arch load_arch(const std::string& path) { return arch_from_json(JsonIn::parse_file(path), path); }
@@ -206,7 +254,8 @@ nlohmann::json to_json(const Arch& a) {
           {"top", a.top},
           {"kernel", to_string(a.kernel)},
           {"precision", a.precision},
-          {"sync_every_ray", a.sync_every_ray}};
+          {"sync_every_ray", a.sync_every_ray},
+          {"iu", iu_json(a.iu)}};
 }
 
 }  // namespace oprt

@@ -26,6 +26,22 @@ enum class CacheReplacement { lru, fifo, random };
 // Where a unit's cache misses go: its DRAM channel directly, or over the shared bus to it.
 enum class DramPath { channel, bus };
 enum class Level { at, lt, analytic };
+// The intersection unit's microarchitecture: the paper's (one adder, one multiplier, one
+// operation at a time) or a pipeline of a sphere unit, a transform unit and a triangle unit
+// (hw/pipeline_timing.h, docs/cycle-model.md).
+enum class IuModel { serial, pipelined };
+
+// A pipelined IU's parameters. Each unit's adders and multipliers: 0 = as many as its
+// operation graph needs to accept a new operation every cycle (initiation interval 1).
+struct IuConfig {
+  IuModel model = IuModel::serial;
+  int rays_in_flight = 16;  // rays between the ray FIFO and their answers, per IU
+  int queue_depth = 4;      // entries of each queue between units (sphere -> transform -> triangle); 0 = unbounded
+  int add_latency = 1, multiply_latency = 1;  // cycles, each FP unit itself pipelined
+  struct Unit {
+    int adders = 0, multipliers = 0;  // 0: enough for II 1
+  } sphere, transform, triangle;
+};
 
 struct Arch {
   std::string source = "built-in defaults";
@@ -64,6 +80,7 @@ struct Arch {
     int cycles_per_hit = 0;  // shading a primary ray's result
     int cycles_per_node = 20;  // --top bvh: refitting one node of a unit's tree, every frame
   } gpp;
+  IuConfig iu;
 
   // Run options.
   Level level = Level::at;
@@ -90,6 +107,8 @@ struct Arch {
 };
 
 // Throws InputError (file, JSON path, problem) on any unknown key or impossible value.
+// check_arch: combinations the model does not support (after command-line overrides).
+void check_arch(const Arch& a);
 Arch load_arch(const std::string& path);
 Arch arch_from_json(const nlohmann::json& doc, const std::string& file);
 nlohmann::json to_json(const Arch& a);
@@ -106,5 +125,6 @@ const char* to_string(LtArbitration b);
 const char* to_string(MemoryModel m);
 const char* to_string(CacheReplacement r);
 const char* to_string(DramPath p);
+const char* to_string(IuModel m);
 
 }  // namespace oprt

@@ -47,7 +47,32 @@ Schedule list_schedule(const OpGraph& g) {
   return s;
 }
 
+namespace {
+// A pipelined unit's schedule: several ops per kind in a cycle.
+std::string modulo_table(const Schedule& s) {
+  std::ostringstream out;
+  const OpGraph& g = *s.graph;
+  out << g.name << " (pipelined: a new instance every " << s.ii << (s.ii == 1 ? " cycle" : " cycles") << ", latency "
+      << s.length() << ")\n  cycle  adders | multipliers | exit\n";
+  for (int c = 1; c <= s.length(); ++c) {
+    std::string add, mul, exits;
+    for (std::size_t i = 0; i < s.cycle.size(); ++i) {
+      if (s.cycle[i] != c) continue;
+      std::string& col = g.ops[i].fu == Fu::adder ? add : mul;
+      col += (col.empty() ? "" : " ") + g.ops[i].name;
+    }
+    for (std::size_t k = 0; k < s.exit_cycle.size(); ++k)
+      if (s.exit_cycle[k] == c) exits += (exits.empty() ? "" : ", ") + g.stages[k];
+    char row[32];
+    std::snprintf(row, sizeof row, "  %5d  ", c);
+    out << row << (add.empty() ? "-" : add) << " | " << (mul.empty() ? "-" : mul) << " | " << exits << "\n";
+  }
+  return out.str();
+}
+}  // namespace
+
 std::string Schedule::table() const {
+  if (ii > 0) return modulo_table(*this);
   std::ostringstream out;
   const int n = *std::max_element(cycle.begin(), cycle.end());
   out << graph->name << "\n  cycle  adder            multiplier       exit\n";
@@ -66,9 +91,82 @@ std::string Schedule::table() const {
   return out.str();
 }
 
+FpUnits full_units(const OpGraph& g, int add_latency, int multiply_latency) {
+  FpUnits u{0, 0, add_latency, multiply_latency};
+  for (const Op& op : g.ops) ++(op.fu == Fu::adder ? u.adders : u.multipliers);
+  return u;
+}
+
+Schedule modulo_schedule(const OpGraph& g, const FpUnits& units) {
+  if (units.add_latency < 1 || units.multiply_latency < 1) throw std::logic_error(g.name + ": FP latencies must be >= 1");
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < g.ops.size(); ++i)
+    if (!index.emplace(g.ops[i].name, i).second) throw std::logic_error(g.name + ": duplicate op " + g.ops[i].name);
+  int adds = 0, muls = 0;
+  for (const Op& op : g.ops) {
+    ++(op.fu == Fu::adder ? adds : muls);
+    for (const auto& in : op.in)
+      if (!index.count(in)) throw std::logic_error(g.name + ": " + op.name + " reads unknown " + in);
+  }
+  if ((adds && units.adders < 1) || (muls && units.multipliers < 1))
+    throw std::logic_error(g.name + ": needs at least one adder and one multiplier");
+  const auto ceil_div = [](int a, int b) { return b > 0 ? (a + b - 1) / b : 0; };
+  Schedule s;
+  s.graph = &g;
+  s.ii = std::max({1, ceil_div(adds, units.adders), ceil_div(muls, units.multipliers)});
+  s.cycle.assign(g.ops.size(), 0);
+  // Modulo reservation table: per kind, ops placed in each slot (cycle mod II).
+  std::vector<int> used_add(s.ii, 0), used_mul(s.ii, 0);
+  const auto latency = [&](std::size_t i) { return g.ops[i].fu == Fu::adder ? units.add_latency : units.multiply_latency; };
+  std::size_t left = g.ops.size();
+  while (left > 0) {
+    const std::size_t before = left;
+    for (std::size_t i = 0; i < g.ops.size(); ++i) {  // program order, each op once its inputs are placed
+      if (s.cycle[i]) continue;
+      int earliest = 1;
+      bool ready = true;
+      for (const auto& in : g.ops[i].in) {
+        const std::size_t j = index[in];
+        if (!s.cycle[j]) {
+          ready = false;
+          break;
+        }
+        earliest = std::max(earliest, s.cycle[j] + latency(j));
+      }
+      if (!ready) continue;
+      const bool adder = g.ops[i].fu == Fu::adder;
+      std::vector<int>& used = adder ? used_add : used_mul;
+      const int capacity = adder ? units.adders : units.multipliers;
+      for (int c = earliest; c < earliest + s.ii; ++c) {
+        if (used[c % s.ii] >= capacity) continue;
+        ++used[c % s.ii];
+        s.cycle[i] = c;
+        --left;
+        break;
+      }
+      if (!s.cycle[i]) throw std::logic_error(g.name + ": no free slot for " + g.ops[i].name);  // cannot happen
+    }
+    if (left == before) throw std::logic_error(g.name + ": dependency cycle");
+  }
+  s.exit_cycle.assign(g.stages.size(), 0);
+  for (std::size_t i = 0; i < g.ops.size(); ++i) {
+    const int k = g.ops[i].exit_stage;
+    if (k >= 0) s.exit_cycle.at(k) = std::max(s.exit_cycle[k], s.cycle[i] + latency(i) - 1);
+  }
+  for (std::size_t k = 0; k < s.exit_cycle.size(); ++k)
+    if (!s.exit_cycle[k]) throw std::logic_error(g.name + ": stage " + g.stages[k] + " has no exit op");
+  // The unit's latency covers every op, not only the exits (a later stage's check may
+  // complete before an unrelated op it does not need).
+  int last = 0;
+  for (std::size_t i = 0; i < g.ops.size(); ++i) last = std::max(last, s.cycle[i] + latency(i) - 1);
+  s.exit_cycle.back() = std::max(s.exit_cycle.back(), last);
+  return s;
+}
+
 namespace {
-Op add(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::adder, std::move(in), exit}; }
-Op mul(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::multiplier, std::move(in), exit}; }
+Op add(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::adder, std::move(in), exit, false}; }
+Op mul(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::multiplier, std::move(in), exit, false}; }
+Op cmp(std::string n, std::vector<std::string> in = {}, int exit = -1) { return {std::move(n), Fu::adder, std::move(in), exit, true}; }
 }  // namespace
 
 // L = c - o, tca = L.d, hit if (L.L - r^2) - tca^2 <= 0 (r^2 folded in early; the final
@@ -81,7 +179,7 @@ const OpGraph& sphere_textbook_graph() {
       mul("Lx*Lx", {"Lx"}), mul("Ly*Ly", {"Ly"}), mul("Lz*Lz", {"Lz"}),
       add("tca'", {"Lx*dx", "Ly*dy"}), add("tca", {"tca'", "Lz*dz"}), mul("tca^2", {"tca"}),
       add("LL'", {"Lx*Lx", "Ly*Ly"}), add("LL", {"LL'", "Lz*Lz"}), add("LL-r2", {"LL"}),
-      add("LL-r2-tca2", {"LL-r2", "tca^2"}, 0)}};
+      cmp("LL-r2-tca2", {"LL-r2", "tca^2"}, 0)}};
   return g;
 }
 
@@ -96,7 +194,7 @@ const OpGraph& sphere_stable_graph() {
       add("lx", {"fx", "b*dx"}), add("ly", {"fy", "b*dy"}), add("lz", {"fz", "b*dz"}),
       mul("lx*lx", {"lx"}), mul("ly*ly", {"ly"}), mul("lz*lz", {"lz"}), mul("b*b", {"b"}),
       add("ll'", {"lx*lx", "ly*ly"}), add("ll'-r2", {"ll'"}), add("ll-r2", {"ll'-r2", "lz*lz"}, 0),
-      add("ll-r2+b2", {"ll-r2", "b*b"}, 0)}};
+      cmp("ll-r2+b2", {"ll-r2", "b*b"}, 0)}};
   return g;
 }
 
@@ -146,11 +244,11 @@ const OpGraph& moller_graph() {
       mul("e2x*cx", {"cx"}), mul("e2y*cy", {"cy"}), mul("e2z*cz", {"cz"}),
       add("u'", {"e2x*cx", "e2y*cy"}), add("u", {"u'", "e2z*cz"}), add("det-u", {"u", "det"}, 1),
       mul("e1x*cx", {"cx"}), mul("e1y*cy", {"cy"}), mul("e1z*cz", {"cz"}),
-      add("v'", {"e1x*cx", "e1y*cy"}), add("v", {"v'", "e1z*cz"}), add("det-u-v", {"det-u", "v"}, 2),
+      add("v'", {"e1x*cx", "e1y*cy"}), add("v", {"v'", "e1z*cz"}), cmp("det-u-v", {"det-u", "v"}, 2),
       mul("tvx*nx", {"tvx"}), mul("tvy*ny", {"tvy"}), mul("tvz*nz", {"tvz"}),
       add("t''", {"tvx*nx", "tvy*ny"}), add("t'", {"t''", "tvz*nz"}),
       mul("tmax*det", {"det"}), mul("t'best*det", {"det"}), mul("t'*detbest", {"t'"}),
-      add("tmax*det-t'", {"t'", "tmax*det"}, 3), add("nearest?", {"t'*detbest", "t'best*det"}, 3)}};
+      cmp("tmax*det-t'", {"t'", "tmax*det"}, 3), cmp("nearest?", {"t'*detbest", "t'best*det"}, 3)}};
   return g;
 }
 
@@ -162,8 +260,8 @@ const OpGraph& transform_watertight_graph() {
   static const OpGraph g = [] {
     OpGraph t{"ray transform into the local frame, with the dominant axis (watertight)", {"done"}, {}};
     for (const char* r : {"x", "y", "z"}) push_row(t, std::string("d'") + r, false, -1);
-    t.ops.push_back(add("|d'x|-|d'y|", {"d'x", "d'y"}));
-    t.ops.push_back(add("max-|d'z|", {"|d'x|-|d'y|", "d'z"}, 0));
+    t.ops.push_back(cmp("|d'x|-|d'y|", {"d'x", "d'y"}));
+    t.ops.push_back(cmp("max-|d'z|", {"|d'x|-|d'y|", "d'z"}, 0));
     for (const char* r : {"x", "y", "z"}) push_row(t, std::string("o'") + r, true, 0);
     return t;
   }();
@@ -197,7 +295,7 @@ const OpGraph& watertight_graph() {
       mul("U*Az", {"U"}), mul("V*Bz", {"V"}), mul("W*Cz", {"W"}),
       add("T'", {"U*Az", "V*Bz"}), add("T", {"T'", "W*Cz"}),
       mul("D=dz*det", {"det"}), mul("tmax*D", {"D=dz*det"}), mul("Tbest*D", {"D=dz*det"}), mul("T*Dbest", {"T"}),
-      add("tmax*D-T", {"T", "tmax*D"}, 3), add("nearest?", {"T*Dbest", "Tbest*D"}, 3)}};
+      cmp("tmax*D-T", {"T", "tmax*D"}, 3), cmp("nearest?", {"T*Dbest", "Tbest*D"}, 3)}};
   return g;
 }
 
@@ -236,9 +334,9 @@ const OpGraph& box_graph() {
       add("nx-ox"), add("fx-ox"), add("ny-oy"), add("fy-oy"), add("nz-oz"), add("fz-oz"),
       mul("tnx", {"nx-ox"}), mul("tfx", {"fx-ox"}), mul("tny", {"ny-oy"}), mul("tfy", {"fy-oy"}),
       mul("tnz", {"nz-oz"}), mul("tfz", {"fz-oz"}),
-      add("tnx-tny", {"tnx", "tny"}), add("tfx-tfy", {"tfx", "tfy"}),
-      add("t0'-tnz", {"tnx-tny", "tnz"}), add("t1'-tfz", {"tfx-tfy", "tfz"}), add("t1''-limit", {"t1'-tfz"}),
-      mul("K*t1", {"t1''-limit"}), add("t0-K*t1", {"t0'-tnz", "K*t1"}, 0)}};
+      cmp("tnx-tny", {"tnx", "tny"}), cmp("tfx-tfy", {"tfx", "tfy"}),
+      cmp("t0'-tnz", {"tnx-tny", "tnz"}), cmp("t1'-tfz", {"tfx-tfy", "tfz"}), cmp("t1''-limit", {"t1'-tfz"}),
+      mul("K*t1", {"t1''-limit"}), cmp("t0-K*t1", {"t0'-tnz", "K*t1"}, 0)}};
   return g;
 }
 

@@ -236,6 +236,8 @@ void Gpp<T>::load_memories() {
     MemoryLoadPacket packet{assignment_[u], cache, cache ? rewritten : decltype(rewritten){}};
     cached_[u] = cache ? 1 : 0;
     stats_.memory_load_bytes += bytes;
+    stats_.unit_memory_load_bytes.resize(assignment_.size(), 0);
+    stats_.unit_memory_load_bytes[u] += bytes;
     const sc_time before = clock_.now();
     write(addr::iu_window(static_cast<int>(u)) + addr::iu_memory, &packet, static_cast<unsigned>(bytes));
     stats_.memory_load_cycles += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
@@ -285,7 +287,7 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     // The records' detail for the waveform's phases, and for caches, which time each visit.
     const bool caches = std::find(cached_.begin(), cached_.end(), 1) != cached_.end();
     trace_functional(frame_, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height,
-                     vcd_ != nullptr || timeline_ != nullptr || caches);
+                     vcd_ != nullptr || timeline_ != nullptr || caches || arch_.iu.model == IuModel::pipelined);
   } catch (const Interrupted&) {  // SIGINT / SIGTERM: abandon the frame; the testbench says what completed
     sc_stop();
     wait(abandoned_);  // never notified

@@ -48,6 +48,7 @@ struct GppStats {
   // --top bvh: nodes of the units' trees over their spheres refitted this frame, the GPP's
   // cycles for that, and nodes built anew (the assignment changed)
   std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;
+  std::vector<std::uint64_t> unit_memory_load_bytes;  // per unit: its share of memory_load_bytes
 };
 
 template <typename T>

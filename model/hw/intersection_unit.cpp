@@ -29,6 +29,31 @@ bool sync_misses(const Arch& a, LocalClock::Mode m) {
 }
 }  // namespace
 
+// A pipelined unit's waveform: per stage its state, its queues' occupancy and its rays in
+// flight, under the unit's `stage` scope (a signal group of its own).
+template <typename T>
+class IntersectionUnit<T>::Trace : public PipelineTrace {
+ public:
+  Trace(VcdWriter& vcd, const std::string& unit, std::uint64_t cycle_ps) : vcd_(vcd), cycle_(cycle_ps) {
+    const std::string scope = unit + ".stage";
+    for (int s = 0; s < kPipeStages; ++s) state_[s] = vcd.add(scope, to_string(static_cast<PipeStage>(s)), 2);
+    queue_[0] = vcd.add_counter(scope, "transform_queue", 16);
+    queue_[1] = vcd.add_counter(scope, "triangle_queue", 16);
+    in_flight_ = vcd.add_counter(scope, "rays_in_flight", 16);
+  }
+  void stage(PipeStage s, Cycle t, StageState st) override {
+    vcd_.change(state_[static_cast<int>(s)], ps(t), static_cast<std::uint64_t>(st));
+  }
+  void queue(int q, Cycle t, int delta) override { vcd_.change_by(queue_[q], ps(t), delta); }
+  void in_flight(Cycle t, int delta) override { vcd_.change_by(in_flight_, ps(t), delta); }
+
+ private:
+  std::uint64_t ps(Cycle t) const { return static_cast<std::uint64_t>(t) * cycle_; }
+  VcdWriter& vcd_;
+  std::uint64_t cycle_;
+  int state_[kPipeStages] = {}, queue_[2] = {}, in_flight_ = 0;
+};
+
 template <typename T>
 IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const Arch& arch,
                                       const SceneGeometry<T>& geometry, const FunctionalFrame<T>& frame, VcdWriter* vcd,
@@ -52,6 +77,17 @@ IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const 
       vcd_(vcd),
       timeline_(timeline) {
   cfg.register_b_transport(this, &IntersectionUnit::cfg_transport);
+  if (arch.iu.model == IuModel::pipelined) {
+    // The waveform shows each stage (Trace); the timeline only the GPP and the bus: a
+    // pipeline's rays overlap, which a track of nested slices cannot show.
+    timeline_ = nullptr;
+    if (vcd_) pipe_trace_ = std::make_unique<Trace>(*vcd_, this->name(), cycle_.value());
+    pipe_ = std::make_unique<PipelinedUnitTiming>(pipeline_config(arch, triangle_bytes_), pipe_trace_.get());
+    reset_stats();
+    SC_THREAD(run_pipelined);
+    if (arch.bus.model != BusModel::ideal) SC_THREAD(write_back);
+    return;
+  }
   if (vcd_ && (vcd_state_ = vcd_->add(this->name(), "state", 3)) == VcdWriter::kNotTraced) vcd_ = nullptr;
   if (timeline_ && (track_ = timeline_->track(this->name(), "state", "IU " + std::to_string(id))) ==
                        TimelineWriter::kNotTraced)
@@ -61,8 +97,18 @@ IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const 
 }
 
 template <typename T>
+IntersectionUnit<T>::~IntersectionUnit() = default;
+
+template <typename T>
 void IntersectionUnit<T>::reset_stats() {
   stats_ = UnitStats{};
+  if (pipe_) pipe_->reset_stats();
+}
+
+template <typename T>
+UnitStats& IntersectionUnit<T>::stats() {
+  if (pipe_) stats_.pipeline = pipe_->stats();  // the stages work side by side (testbench.cpp)
+  return stats_;
 }
 
 template <typename T>
@@ -238,30 +284,127 @@ void IntersectionUnit<T>::run() {
       clock_.catch_up();
 
     // Answer the GPP. The unit waits for its transfer: time on the bus is a stall.
-    AnswerPacket<T> a;
-    a.ray = e.ray;
-    a.unit = unit;
-    const UnitAnswer<T> answer = frame_.answer(w, unit);
-    a.occluded = answer.occluded;
-    a.hit = answer.hit;
-    answer_.set_command(tlm::TLM_WRITE_COMMAND);
-    answer_.set_address(addr::gpp_hits);
-    answer_.set_data_ptr(reinterpret_cast<unsigned char*>(&a));
-    answer_.set_data_length(r.kind == RayKind::primary ? Bytes<T>::nearest_answer : Bytes<T>::shadow_answer);
-    answer_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
     const sc_time before = clock_.now();
     if (vcd_ && arch_.bus.model == BusModel::shared) trace_state(UnitState::stall, before);
     if (sync_on_bus_) clock_.sync();  // bus.lt_arbitration = sync (bus.h)
     sc_time delay = clock_.offset();
     const sc_time sim = sc_time_stamp();
     activity_ = Activity::answering;
-    bus->b_transport(answer_, delay);
-    if (answer_.is_response_error()) SC_REPORT_FATAL(name(), "answer to the GPP failed");
+    send_answer(e.ray, w, delay);
     clock_.advance_to(sim + delay);  // decoupled: the transfer's end; at: already waited
     if (arch_.bus.model == BusModel::shared) {
       stats_.bus_stall += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
       if (timeline_) timeline_->slice(track_, "bus wait", before.value(), clock_.now().value(), {{"ray", e.ray}});
     }
+  }
+}
+
+template <typename T>
+void IntersectionUnit<T>::send_answer(std::uint32_t ray, const UnitRayWork* w, sc_time& delay) {
+  const auto unit = static_cast<std::uint32_t>(id_);
+  AnswerPacket<T> a;
+  a.ray = ray;
+  a.unit = unit;
+  const UnitAnswer<T> answer = frame_.answer(w, unit);
+  a.occluded = answer.occluded;
+  a.hit = answer.hit;
+  answer_.set_command(tlm::TLM_WRITE_COMMAND);
+  answer_.set_address(addr::gpp_hits);
+  answer_.set_data_ptr(reinterpret_cast<unsigned char*>(&a));
+  answer_.set_data_length(frame_.rays[ray].kind == RayKind::primary ? Bytes<T>::nearest_answer : Bytes<T>::shadow_answer);
+  answer_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+  bus->b_transport(answer_, delay);
+  if (answer_.is_response_error()) SC_REPORT_FATAL(name(), "answer to the GPP failed");
+}
+
+// The pipeline takes ray e at cycle t: read the spheres it entered from object memory,
+// time it, and answer (at once, annotated, on an ideal bus; on a shared one through the
+// write-back process, at the answer's time).
+template <typename T>
+void IntersectionUnit<T>::take(const RayEntry& e, Cycle t) {
+  const auto unit = static_cast<std::uint32_t>(id_);
+  ray_ = e.ray;
+  const UnitRayWork* w = frame_.find(e.ray, unit);
+  const UnitTrace<T>& ut = frame_.units[unit];
+  const VisitWork* visits = nullptr;
+  std::uint32_t n = 0, tests = frame_.unit_entries[unit];
+  if (w) {  // the trace keeps the detail for a pipeline (Gpp)
+    const std::uint32_t i = ut.index(w);
+    visits = ut.visits.data() + ut.visit_first[i];
+    n = ut.visit_first[i + 1] - ut.visit_first[i];
+    tests = ut.sphere_tests[i];
+    for (std::uint32_t k = 0; k < n; ++k)
+      read_memory(visits[k].sphere, std::uint64_t{visits[k].tri_tests} * triangle_bytes_);
+  }
+  const PipelinedUnitTiming::Taken k = pipe_->take(t, cycle_of(e.avail), tests, visits, n);
+  ++stats_.rays[static_cast<int>(frame_.rays[e.ray].kind)];
+  // An ideal bus takes the answer at its time, whenever it is sent: send it now, annotated
+  // with its time (the GPP acts on it only then), and the ray's slot is free at that time.
+  if (arch_.bus.model == BusModel::ideal) {
+    pipe_->retire(k.handle, k.done, k.done);
+    sc_time delay = time_of(k.done) - sc_time_stamp();
+    send_answer(e.ray, w, delay);
+    return;
+  }
+  answers_.push({k.done, e.ray, k.handle});
+  answer_queued_.notify();
+}
+
+// How far ahead of simulation time the pipeline may take a ray: `ahead`, without limit;
+// `quantum` (lt), up to the global quantum, as a decoupled serial unit runs; `exact`, not
+// at all (the ray leaves its FIFO at the simulated time the pipeline takes it).
+template <typename T>
+void IntersectionUnit<T>::run_pipelined() {
+  const LocalClock::Mode mode = clock_.mode();
+  for (;;) {
+    const Cycle ready = pipe_->ready();
+    if (ready == PipelinedUnitTiming::kNever) {  // every ray slot waits for its answer to leave
+      activity_ = Activity::waiting_for_slot;
+      wait(slot_freed_);
+      continue;
+    }
+    const sc_time at = time_of(ready);
+    const sc_time lead = mode == LocalClock::Mode::ahead     ? sc_max_time()
+                         : mode == LocalClock::Mode::quantum ? tlm_utils::tlm_quantumkeeper::get_global_quantum()
+                                                             : SC_ZERO_TIME;
+    if (at > sc_time_stamp() && at - sc_time_stamp() > lead) {
+      activity_ = Activity::tracing;
+      wait(at - sc_time_stamp());
+      continue;
+    }
+    RayEntry e;
+    const sc_time now = std::max(at, sc_time_stamp());
+    if (!fifo->pop(e, now)) {
+      activity_ = Activity::waiting_for_ray;
+      wait(fifo->pushed_event());
+      continue;
+    }
+    activity_ = Activity::tracing;
+    take(e, cycle_of(std::max(now, e.avail)));
+  }
+}
+
+// Answers leave in the order they are ready (rays finish out of order), each when it is
+// ready: the bus sees them at their times. A ray's slot is free once the bus has its answer.
+template <typename T>
+void IntersectionUnit<T>::write_back() {
+  for (;;) {
+    if (answers_.empty()) {
+      wait(answer_queued_);
+      continue;
+    }
+    const Answer a = answers_.top();
+    const sc_time at = time_of(a.done);
+    if (at > sc_time_stamp()) {
+      wait(at - sc_time_stamp(), answer_queued_);  // an answer ready earlier may be queued meanwhile
+      continue;
+    }
+    answers_.pop();
+    sc_time delay = SC_ZERO_TIME;
+    send_answer(a.ray, frame_.find(a.ray, static_cast<std::uint32_t>(id_)), delay);
+    if (delay != SC_ZERO_TIME) wait(delay);  // a decoupled bus reports the transfer's end
+    pipe_->retire(a.handle, a.done, cycle_of(sc_time_stamp()));
+    slot_freed_.notify();
   }
 }
 
@@ -273,6 +416,9 @@ std::string IntersectionUnit<T>::waiting_for() const {
     case Activity::waiting_for_ray: return "waiting for a ray; " + its_fifo;
     case Activity::tracing: return "tracing ray " + std::to_string(ray_) + "; " + its_fifo;
     case Activity::answering: return "waiting for the bus to take its answer to ray " + std::to_string(ray_) + "; " + its_fifo;
+    case Activity::waiting_for_slot:
+      return "pipelined: every ray slot holds a ray whose answer has not left (" + std::to_string(answers_.size()) +
+             " answers queued); " + its_fifo;
   }
   return its_fifo;
 }

@@ -16,11 +16,22 @@
 // When its spheres do not fit its object memory, the memory is a cache (cache.h): the unit
 // then works through a ray visit by visit, sends each visit's reads with their addresses
 // (walked again, visit_stream.h) and lets the memory time them line by line.
+//
+// With `"iu": {"model": "pipelined"}` the unit is a pipeline of a sphere, a transform and
+// a triangle unit with several rays in flight; its timing is hw/pipeline_timing.h's, and
+// its answers leave out of ray order, each at its own time. Where nothing can observe the
+// unit (`ahead`), it takes each ray as soon as the pipeline can. Otherwise (a bounded FIFO,
+// a shared bus) it pops each ray at the simulated time the pipeline takes it. On an ideal
+// bus an answer takes no time and meets no other transfer: it is sent at once, annotated
+// with its time, and the GPP acts on it only then (gpp.cpp). On a shared bus a second
+// process sends each answer when it is ready, in time order, and frees its ray slot when
+// the bus has taken it.
 #pragma once
 
 #include "hw/functional_frame.h"
 #include "hw/local_clock.h"
 #include "hw/payloads.h"
+#include "hw/pipeline_timing.h"
 #include "hw/ray_fifo.h"
 #include "hw/unit_cycles.h"
 #include "hw/timeline.h"
@@ -32,6 +43,10 @@
 #include <tlm>
 #include <tlm_utils/simple_initiator_socket.h>
 #include <tlm_utils/simple_target_socket.h>
+
+#include <memory>
+#include <optional>
+#include <queue>
 
 namespace oprt::hw {
 
@@ -46,6 +61,7 @@ struct UnitStats {
   // Through an object memory that is a cache (--sram): its stall replaces the trace's, which
   // is on-chip memory's.
   std::uint64_t cache_stall = 0;
+  std::optional<PipelineStats> pipeline;  // a pipelined unit's stages (its cycles are theirs)
   std::uint64_t rays[kRayKinds] = {};
 };
 
@@ -60,10 +76,14 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   SC_HAS_PROCESS(IntersectionUnit);
   IntersectionUnit(const sc_core::sc_module_name& name, int id, const Arch& arch, const SceneGeometry<T>& geometry,
                    const FunctionalFrame<T>& frame, VcdWriter* vcd, TimelineWriter* timeline = nullptr);
+  ~IntersectionUnit() override;
 
   int id() const { return id_; }
   const IuRegisters<T>& registers() const { return regs_; }
-  UnitStats& stats() { return stats_; }
+  UnitStats& stats();
+  // The earliest time the unit may still report to the waveform (a pipelined unit reports
+  // its stages' stalls once it knows them, behind simulation time); no limit for a serial one.
+  sc_core::sc_time trace_floor() const { return pipe_ ? time_of(pipe_->trace_floor()) : sc_core::sc_max_time(); }
   void reset_stats();
   std::string waiting_for() const override;
 
@@ -75,6 +95,13 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   void advance_tracing(std::uint32_t ray, UnitState s, std::uint64_t cycles);
   void trace_state(UnitState s, const sc_core::sc_time& at);
   void trace_phases(std::uint32_t ray, const UnitRayWork* w, sc_core::sc_time at);
+  void send_answer(std::uint32_t ray, const UnitRayWork* w, sc_core::sc_time& delay);
+  // Pipelined: the intake (pops rays) and, unless it runs ahead, the write-back (answers).
+  void run_pipelined();
+  void write_back();
+  void take(const RayEntry& e, Cycle t);
+  sc_core::sc_time time_of(Cycle c) const { return sc_core::sc_time::from_value(cycle_.value() * static_cast<std::uint64_t>(c)); }
+  Cycle cycle_of(const sc_core::sc_time& t) const { return static_cast<Cycle>((t.value() + cycle_.value() / 2) / cycle_.value()); }
 
   const int id_;
   const Arch& arch_;
@@ -103,8 +130,22 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   TimelineWriter* timeline_;  // null when not traced
   int track_ = -1;
   // For the watchdog: what the process is doing (plain stores, no events).
-  enum class Activity : std::uint8_t { waiting_for_ray, tracing, answering } activity_ = Activity::waiting_for_ray;
+  enum class Activity : std::uint8_t { waiting_for_ray, tracing, answering, waiting_for_slot } activity_ =
+      Activity::waiting_for_ray;
   std::uint32_t ray_ = 0;
+
+  // Pipelined unit.
+  struct Answer {
+    Cycle done;
+    std::uint32_t ray;
+    PipelinedUnitTiming::Handle handle;
+    bool operator>(const Answer& o) const { return done != o.done ? done > o.done : ray > o.ray; }
+  };
+  class Trace;
+  std::unique_ptr<Trace> pipe_trace_;
+  std::unique_ptr<PipelinedUnitTiming> pipe_;
+  std::priority_queue<Answer, std::vector<Answer>, std::greater<Answer>> answers_;
+  sc_core::sc_event answer_queued_, slot_freed_;
 };
 
 extern template class IntersectionUnit<float>;

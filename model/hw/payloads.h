@@ -43,6 +43,10 @@ struct Bytes {
   static constexpr unsigned triangle(Kernel k) { return triangle_bytes<T>(k); }
   static constexpr unsigned node = BvhNode<T>::kBytes;                 // box, offset, count, axis
   static constexpr unsigned top_node = 6 * sizeof(T) + 8;              // --top bvh: box, child or entry, leaf, axis
+  // A pipelined IU's queue entries: a job for the transform unit (ray slot, register
+  // entry) and one for the triangle unit (ray slot, sphere, the local ray's o and d).
+  static constexpr unsigned transform_job = 8;
+  static constexpr unsigned triangle_job = 8 + 6 * sizeof(T);
 };
 
 // Rays of the frame in flight, by id. Written by the GPP; units read the ray a FIFO entry

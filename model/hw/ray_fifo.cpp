@@ -37,10 +37,29 @@ void RayFifo::b_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   const sc_time at = sc_time_stamp() + delay;
   queue_.push_back({id, at});
   ++pushes_;
-  if (queue_.size() > peak_) peak_ = queue_.size();
+  unsettled_.emplace_back(at, pushes_);
+  if (unsettled_.size() == 1)  // no push before it is left to count: pops at or before `at` no longer matter
+    while (!late_pops_.empty() && late_pops_.front() <= at) late_pops_.pop_front();
   trace_occupancy(at, +1);
   pushed_.notify();
   p.set_response_status(tlm::TLM_OK_RESPONSE);
+}
+
+// Count the pushes before `before` (every pop at or before their time has happened), or all
+// of them (null).
+void RayFifo::settle(const sc_time* before) {
+  while (!unsettled_.empty() && (!before || unsettled_.front().first < *before)) {
+    const auto& [a, pushed] = unsettled_.front();
+    while (!late_pops_.empty() && late_pops_.front() <= a) late_pops_.pop_front();
+    const std::uint64_t popped = pops_ - late_pops_.size();  // the pops at or before a
+    peak_ = std::max<std::size_t>(peak_, static_cast<std::size_t>(pushed - popped));
+    unsettled_.pop_front();
+  }
+}
+
+std::size_t RayFifo::peak_occupancy() {
+  settle(nullptr);  // between frames every pop is done
+  return peak_;
 }
 
 std::string RayFifo::fill_state() const {
@@ -57,8 +76,11 @@ bool RayFifo::pop(RayEntry& e, const sc_time& at) {
   e = queue_.front();
   queue_.pop_front();
   if (depth_ > 0) pop_time_[pops_ % depth_] = std::max(at, e.avail);
+  const sc_time t = std::max(at, e.avail);
+  settle(&t);
   ++pops_;
-  trace_occupancy(std::max(at, e.avail), -1);
+  late_pops_.push_back(t);
+  trace_occupancy(t, -1);
   if (depth_ > 0) freed_.notify();  // only a bounded FIFO is ever waited on for room
   return true;
 }

@@ -47,8 +47,18 @@ class RayFifo : public sc_core::sc_module, public RayFifoIf, public Waiter {
   sc_core::sc_time space_time() const override;
   const sc_core::sc_event& freed_event() const override { return freed_; }
   std::size_t occupancy() const override { return queue_.size(); }
-  std::size_t peak_occupancy() const { return peak_; }
-  void reset_peak() { peak_ = queue_.size(); }
+  // Pushes and pops since reset_counts(), and the most rays it held at once over the run.
+  // The peak is in time order, not simulation order: a unit running ahead pops a ray early
+  // in simulation order at a time that lies ahead, so the queue's length when a ray is
+  // pushed is not the occupancy at the push's time. Push times and pop times each only
+  // grow, so a push at time a is counted once a pop later than a (or the end of a frame)
+  // shows that every pop at or before a has happened: occupancy after the push = pushes up
+  // to it - pops at or before a (a slot freed at a can be filled at a). Pops done early in
+  // simulation order at times after a are not among them.
+  std::uint64_t pushes() const { return pushes_ - pushes_at_reset_; }
+  std::uint64_t pops() const { return pops_ - pops_at_reset_; }
+  std::size_t peak_occupancy();
+  void reset_counts() { pushes_at_reset_ = pushes_, pops_at_reset_ = pops_; }
   int depth() const { return depth_; }
   std::string fill_state() const override;
   std::string waiting_for() const override { return fill_state(); }
@@ -62,7 +72,11 @@ class RayFifo : public sc_core::sc_module, public RayFifoIf, public Waiter {
   std::deque<RayEntry> queue_;
   std::uint64_t pushes_ = 0, pops_ = 0;
   std::vector<sc_core::sc_time> pop_time_;  // ring of the last `depth` pop times
+  std::uint64_t pushes_at_reset_ = 0, pops_at_reset_ = 0;
+  std::deque<std::pair<sc_core::sc_time, std::uint64_t>> unsettled_;  // pushes (time, pushes up to it) not yet counted
+  std::deque<sc_core::sc_time> late_pops_;  // times of pops done, later than the pushes counted so far
   std::size_t peak_ = 0;
+  void settle(const sc_core::sc_time* before);
   int writes_waiting_ = 0;
   sc_core::sc_event pushed_, freed_;
   VcdWriter* vcd_;

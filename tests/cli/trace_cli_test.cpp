@@ -29,7 +29,7 @@ TEST_CASE("cli: bad --trace-* values are rejected with the option, the value and
   check_rejected("--trace-units 0-99" + vcd, "--trace-units: 0-99: unit 32 does not exist: this run has 32 units (0-31)");
   check_rejected("--trace-units 3-1" + vcd, "--trace-units: 3-1: range 3-1 ends before it starts");
   check_rejected("--trace-signals state,nets" + vcd,
-                 "--trace-signals: state,nets: unknown signal group \"nets\" (expected a list of: state, fifo, bus, gpp, memory)");
+                 "--trace-signals: state,nets: unknown signal group \"nets\" (expected a list of: state, fifo, bus, gpp, memory, stage)");
   check_rejected("--trace-buffer 0" + vcd, "--trace-buffer");
 }
 

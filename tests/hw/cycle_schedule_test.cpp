@@ -98,3 +98,64 @@ TEST_CASE("schedules: malformed graphs are refused", "[schedule]") {
   OpGraph no_exit{"no exit", {"done"}, {{"a", Fu::adder, {}, -1}}};
   CHECK_THROWS_AS(list_schedule(no_exit), std::logic_error);
 }
+
+namespace {
+// Independent check of a modulo schedule: every op after its inputs' results, and in every
+// slot (cycle mod II) no more ops of a kind than the unit has of that kind.
+void check_modulo(const Schedule& s, const FpUnits& u) {
+  const OpGraph& g = *s.graph;
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < g.ops.size(); ++i) index[g.ops[i].name] = i;
+  std::map<std::pair<int, int>, int> used;  // (slot, kind) -> ops
+  for (std::size_t i = 0; i < g.ops.size(); ++i) {
+    REQUIRE(s.cycle[i] >= 1);
+    ++used[{s.cycle[i] % s.ii, static_cast<int>(g.ops[i].fu)}];
+    for (const auto& in : g.ops[i].in) {
+      const std::size_t j = index.at(in);
+      const int lat = g.ops[j].fu == Fu::adder ? u.add_latency : u.multiply_latency;
+      CHECK(s.cycle[j] + lat <= s.cycle[i]);
+    }
+  }
+  for (const auto& [k, n] : used) CHECK(n <= (k.second == static_cast<int>(Fu::adder) ? u.adders : u.multipliers));
+}
+}  // namespace
+
+TEST_CASE("modulo schedules: one instance per cycle with a unit per op, at the graph's critical path", "[schedule][pipelined]") {
+  // Moller with 18 adders and 21 multipliers of latency 1: II 1, every op as soon as its
+  // inputs are ready. det = (dx*nx + dy*ny) + dz*nz in cycle 3; u = e2.(tv x d): tvy,
+  // tvy*dz, cx, e2x*cx, u', u, det-u: cycle 7; det-u-v waits for det-u: cycle 8, after which
+  // the t stage (t' by cycle 4, its two comparisons by 6) is long done: latency 8.
+  const FpUnits full = full_units(moller_graph());
+  CHECK(full.adders == 18);
+  CHECK(full.multipliers == 21);
+  const Schedule s = modulo_schedule(moller_graph(), full);
+  check_modulo(s, full);
+  CHECK(s.ii == 1);
+  CHECK(s.exit_cycle == std::vector<int>{3, 7, 8, 8});
+  // The transform: a row is 3 multiplies then 2 (d') or 3 (o') adds: 1 + 2 + 1 = 4 cycles.
+  const Schedule t = modulo_schedule(transform_graph(), full_units(transform_graph()));
+  CHECK(t.ii == 1);
+  CHECK(t.length() == 4);
+}
+
+TEST_CASE("modulo schedules: fewer units raise II to the resource bound; latencies stretch the chain", "[schedule][pipelined]") {
+  // 18 adder ops on 6 adders and 21 multiplies on 7 multipliers: II = max(3, 3) = 3.
+  const FpUnits third{6, 7, 1, 1};
+  const Schedule s = modulo_schedule(moller_graph(), third);
+  check_modulo(s, third);
+  CHECK(s.ii == 3);
+  // One adder and one multiplier: II = max(18, 21) = 21, the serial unit's throughput (its
+  // list schedule takes 22 cycles per test: pipelining across tests saves the tail).
+  const FpUnits one{1, 1, 1, 1};
+  const Schedule o = modulo_schedule(moller_graph(), one);
+  check_modulo(o, one);
+  CHECK(o.ii == 21);
+  // Multiplies of latency 3, adds of 2, a unit per op: the transform's row takes
+  // 3 (multiply) + 2 + 2 (two adds) + 2 (the translation) = 9 cycles, from cycle 1: latency 9.
+  const FpUnits slow = full_units(transform_graph(), 2, 3);
+  const Schedule t = modulo_schedule(transform_graph(), slow);
+  check_modulo(t, slow);
+  CHECK(t.ii == 1);
+  CHECK(t.length() == 9);
+  CHECK_THROWS(modulo_schedule(moller_graph(), FpUnits{0, 1, 1, 1}));
+}

@@ -48,6 +48,22 @@ class TestSpeedVsError(unittest.TestCase):
                 self.assertIn("| paper_room | contended | lt | 100us |", f.read())
             self.assertGreater(os.path.getsize(os.path.join(out, "speed_vs_error.png")), 10000)
 
+    def test_pipelined_units_are_exact_at_every_level_under_the_ideal_architecture(self):
+        with tempfile.TemporaryDirectory() as out:
+            r = self.run_script(ROOM, "--resolution", "12x12", "--quanta", "10ns,100us", "--ius", "6", "--iu", "pipelined",
+                                "--no-variants", "--no-images", "--out", out)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            with open(os.path.join(out, "timing.csv")) as f:
+                rows = list(csv.DictReader(f))
+            self.assertEqual(len(rows), 2 * 4)
+            for row in rows:
+                self.assertIn("--iu pipelined", row["command"])
+                if row["arch"] == "ideal":
+                    self.assertEqual(float(row["makespan_err_pct"]), 0.0, row)
+                    self.assertEqual(float(row["idle_err_l1_pct"]), 0.0, row)
+            with open(os.path.join(out, "speed_vs_error.md")) as f:
+                self.assertIn("6 pipelined IUs", f.read())
+
     def test_bad_command_line_exits_2(self):
         r = self.run_script("/nonexistent.json")
         self.assertEqual(r.returncode, 2)

@@ -16,10 +16,15 @@ TEST_CASE("trace select: signals belong to a group and, per unit, to their unit"
   CHECK(classify_signal("testbench.engine.bus", "busy").group == "bus");
   CHECK(classify_signal("testbench.engine.bus", "busy").unit == -1);
   CHECK(classify_signal("testbench.engine.gpp", "frame").group == "gpp");
-  // A block inside a unit belongs to the unit; a signal no group claims has none.
-  CHECK(classify_signal("testbench.engine.iu5.stage1", "state").unit == 5);
-  CHECK(classify_signal("testbench.engine.iu5.stage1", "state").group.empty());
-  CHECK(signal_groups() == std::vector<std::string>{"state", "fifo", "bus", "gpp", "memory"});
+  CHECK(classify_signal("testbench.engine.memory7", "misses").group == "memory");
+  CHECK(classify_signal("testbench.engine.memory7", "misses").unit == 7);
+  // A block inside a unit belongs to the unit: a pipelined unit's stages.
+  CHECK(classify_signal("testbench.engine.iu5.stage", "triangle").unit == 5);
+  CHECK(classify_signal("testbench.engine.iu5.stage", "triangle").group == "stage");
+  // A signal no group claims has none.
+  CHECK(classify_signal("testbench.engine.iu5.other", "x").unit == 5);
+  CHECK(classify_signal("testbench.engine.iu5.other", "x").group.empty());
+  CHECK(signal_groups() == std::vector<std::string>{"state", "fifo", "bus", "gpp", "memory", "stage"});
 }
 
 TEST_CASE("trace select: the selection keeps the chosen units' signals and every shared one", "[trace]") {
