@@ -136,7 +136,20 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   if (pipelined) pipes_.assign(units, PipelinedUnitTiming(pipeline_config(arch_, Bytes<T>::triangle(arch_.kernel))));
   fifo_peak_.resize(units, 0);
   // Per unit: pop times of rays still queued at the latest push (FIFO occupancy in time).
-  std::vector<std::deque<Cycles>> queued(units);
+  // A unit pops in push order, so they only grow: a queue kept as a vector and a head.
+  struct PopTimes {
+    std::vector<Cycles> t;
+    std::size_t head = 0;
+    std::size_t occupancy_after_push(Cycles at, Cycles pop) {  // rays it holds once this one is in
+      while (head < t.size() && t[head] <= at) ++head;
+      if (head == t.size()) t.clear(), head = 0;
+      else if (head >= 1024 && 2 * head >= t.size()) t.erase(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(head)), head = 0;
+      t.push_back(pop);
+      return t.size() - head;
+    }
+  };
+  std::vector<PopTimes> queued(units);
+  std::uint64_t issued = 0;  // every unit takes every ray
   std::priority_queue<Completion, std::vector<Completion>, std::greater<Completion>> completed;
   std::deque<std::uint32_t> shadow_queue;
   const unsigned depth = static_cast<unsigned>(arch_.fifo_depth);
@@ -169,6 +182,9 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   };
 
   // Issue ray `id`: the GPP generates and writes it; every unit takes it in FIFO order.
+  const bool simple = !pipelined && !shared && !caches;
+  std::vector<Cycles> miss_cycles(units);  // a ray that enters none of the unit's spheres
+  for (std::uint32_t u = 0; u < units; ++u) miss_cycles[u] = f.cycles(nullptr, u);
   auto issue = [&](std::uint32_t id) {
     g += arch_.gpp.cycles_per_ray;
     const std::size_t n = last_pop.size();  // rays issued before this one
@@ -183,6 +199,23 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     ++out.rays[static_cast<int>(kind)];
     const std::uint64_t answer = kind == RayKind::primary ? Bytes<T>::nearest_answer : Bytes<T>::shadow_answer;
     Cycles done_all = 0, popped = 0;
+    ++issued;
+    if (simple) {  // serial units, ideal bus, on-chip memories: the common case, kept tight
+      out.bus_transfers += units;
+      out.bus_bytes += units * answer;
+      for (std::uint32_t u = 0; u < units; ++u) {
+        const Cycles start = std::max(unit_free[u], avail);
+        const UnitRayWork* w = f.find(id, u);
+        const Cycles done = start + (w ? w->cycles : miss_cycles[u]);
+        unit_free[u] = done;
+        fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], queued[u].occupancy_after_push(avail, start));
+        done_all = std::max(done_all, done);
+        popped = std::max(popped, start);
+      }
+      last_pop.push_back(popped);
+      completed.push({done_all, id});
+      return;
+    }
     for (std::uint32_t u = 0; u < units; ++u) {
       UnitRun& ur = out.units[u];
       const UnitRayWork* w = f.find(id, u);
@@ -210,13 +243,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
         ur.cycles.stall += done - end;  // the bus; busy cycles are the trace's (below)
         unit_free[u] = done;
       }
-      ++ur.rays;
-      ++ur.fifo_pushes;
-      ++ur.fifo_pops;
-      std::deque<Cycles>& q = queued[u];
-      while (!q.empty() && q.front() <= avail) q.pop_front();
-      fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], q.size() + 1);
-      q.push_back(start);
+      fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], queued[u].occupancy_after_push(avail, start));
       done_all = std::max(done_all, done);
       popped = std::max(popped, start);
     }
@@ -254,6 +281,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   out.per_sphere = f.per_sphere;
   for (std::size_t u = 0; u < units; ++u) {
     out.units[u].fifo_peak = fifo_peak_[u];
+    out.units[u].rays = out.units[u].fifo_pushes = out.units[u].fifo_pops = issued;
     if (pipelined) {  // its stages work side by side: each one's issue cycles, and the unit's stalls
       out.units[u].pipeline = pipes_[u].stats();
       out.units[u].cycles = pipelined_cycles(pipes_[u].stats());
