@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
   render->add_option("--trace-signals", ro.trace_signals, "trace only these signal groups: state,fifo,bus,gpp,memory,stage");
   render->add_option("--trace-buffer", ro.trace_buffer,
                      "value changes the --vcd writer may hold ahead of simulation time before units running ahead "
-                     "wait (default 262144, 16 bytes each)")
+                     "wait (default 131072, 16 bytes each)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 32));
   render->add_flag("!--no-progress", ro.progress, "no progress bar");
   add_threads(render);

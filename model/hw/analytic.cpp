@@ -157,9 +157,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   // A ray through unit u's cache, visit by visit (IntersectionUnit::trace_through_cache);
   // returns when it ends. The cache's stall is counted in out.units[u].memory.
   VisitStream stream;
-  auto entered = [](const UnitTrace<T>& ut, const UnitRayWork* w) {
-    return ut.visit_first[ut.index(w) + 1] > ut.visit_first[ut.index(w)];
-  };
+  auto entered = [&](std::uint32_t u, const UnitRayWork* w) { return f.visits_of(u, f.units[u].index(w)).size() > 0; };
   auto through_cache = [&](std::uint32_t u, const RayRecord<T>& r, const UnitRayWork& w, Cycles t) {
     auto fetch = [&](std::uint64_t, Cycles q) -> Cycles {
       if (fill_over_bus) q = transfer(q, static_cast<std::uint64_t>(cc.line_bytes));
@@ -168,8 +166,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     const UnitTrace<T>& ut = f.units[u];
     const std::uint32_t i = ut.index(&w);
     std::uint32_t spheres = 0, nodes = 0;
-    for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
-      const VisitWork& v = ut.visits[k];
+    for (const VisitWork& v : f.visits_of(u, i)) {
       t += std::uint64_t{v.nodes_before} * f.node_cost + std::uint64_t{v.spheres_before} * f.sphere_cost;
       nodes += v.nodes_before;
       spheres += v.spheres_before;
@@ -177,8 +174,8 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
       t = time_visit(visit_costs(arch_, again), stream, t, caches_[u], windows_[u], out.units[u].memory, fetch,
                      [](int, std::uint64_t) {});
     }
-    return t + std::uint64_t{ut.node_tests[i] - nodes} * f.node_cost +
-           std::uint64_t{ut.sphere_tests[i] - spheres} * f.sphere_cost;
+    return t + std::uint64_t{f.node_tests_of(u, i) - nodes} * f.node_cost +
+           std::uint64_t{f.sphere_tests_of(u, i) - spheres} * f.sphere_cost;
   };
 
   // Issue ray `id`: the GPP generates and writes it; every unit takes it in FIFO order.
@@ -228,16 +225,16 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
         std::uint32_t n = 0, tests = f.unit_entries[u];
         if (w) {
           const std::uint32_t i = ut.index(w);
-          visits = ut.visits.data() + ut.visit_first[i];
-          n = ut.visit_first[i + 1] - ut.visit_first[i];
-          tests = ut.sphere_tests[i];
+          visits = f.visits_of(u, i).first;
+          n = f.visits_of(u, i).size();
+          tests = f.sphere_tests_of(u, i);
         }
         const auto k = p.take(static_cast<Cycle>(start), static_cast<Cycle>(avail), tests, visits, n);
         done = transfer(static_cast<Cycles>(k.done), answer);
         p.retire(k.handle, k.done, static_cast<Cycle>(done));
       } else {
         start = std::max(unit_free[u], avail);
-        const Cycles end = cached_[u] && w && entered(f.units[u], w) ? through_cache(u, f.rays[id], *w, start)
+        const Cycles end = cached_[u] && w && entered(u, w) ? through_cache(u, f.rays[id], *w, start)
                                                                     : start + f.cycles(w, u);
         done = transfer(end, answer);
         ur.cycles.stall += done - end;  // the bus; busy cycles are the trace's (below)

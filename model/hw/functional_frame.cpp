@@ -4,6 +4,9 @@
 #include "ref/stop.h"
 
 #include <stdexcept>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <string>
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
@@ -17,9 +20,6 @@ struct ChunkRecord {
   std::uint32_t unit;
   UnitRayWork work;  // work.ray and work.answer: local to the chunk
 };
-struct ChunkDetail {
-  std::uint32_t sphere_tests, node_tests, first_visit, visits;
-};
 
 // What one chunk of pixels produced, in ray order.
 template <typename T>
@@ -27,12 +27,22 @@ struct Chunk {
   std::vector<RayRecord<T>> rays;
   std::vector<std::uint32_t> pixel_rays;  // per pixel: its number of rays
   std::vector<ChunkRecord> records;
-  std::vector<ChunkDetail> details;  // per record, with detail
-  std::vector<VisitWork> visits;
+  typename FunctionalFrame<T>::ChunkDetail* detail = nullptr;  // the frame's, for this chunk
   std::vector<HitRecord<T>> hits;
   std::vector<std::uint32_t> records_of;  // per unit: how many records, visits and hits
-  std::vector<std::uint32_t> visits_of;
   std::vector<std::uint32_t> hits_of;
+
+  // Give back the growth slack while the chunk's thread goes on to its next chunk (it
+  // reuses the memory): the frame's records are held at their size, not up to twice it.
+  void shrink() {
+    rays.shrink_to_fit();
+    records.shrink_to_fit();
+    hits.shrink_to_fit();
+    if (!detail) return;
+    detail->visits.shrink_to_fit();
+    for (auto& r : detail->records) r.shrink_to_fit();
+    for (auto& t : detail->tree_tests) t.shrink_to_fit();
+  }
 };
 
 // Per thread: the work tables every chunk adds to (integer sums, the same in any order).
@@ -45,11 +55,10 @@ struct Totals {
 template <typename T>
 class Recorder {
  public:
-  Recorder(Chunk<T>& c, Totals& t, const Arch& a, std::size_t units, bool detail)
-      : c_(c), t_(t), arch_(a), detail_(detail), node_bytes_(Bytes<T>::node), triangle_bytes_(Bytes<T>::triangle(a.kernel)) {
-    c_.records_of.assign(units, 0);
-    c_.visits_of.assign(units, 0);
-    c_.hits_of.assign(units, 0);
+  Recorder(Chunk<T>& c, Totals& t, const Arch& a, const std::vector<IuRegisters<T>>& regs, bool detail)
+      : c_(c), t_(t), arch_(a), regs_(regs), detail_(detail), node_bytes_(Bytes<T>::node), triangle_bytes_(Bytes<T>::triangle(a.kernel)) {
+    c_.records_of.assign(regs.size(), 0);
+    c_.hits_of.assign(regs.size(), 0);
   }
 
   void begin_ray(const Ray<T>& ray, RayKind kind, std::size_t pixel, std::uint32_t slot) {
@@ -62,7 +71,7 @@ class Recorder {
     sphere_tests_ = visits_ = node_tests_ = 0;
     spheres_before_ = nodes_before_ = 0;
     bytes_ = 0;
-    first_visit_ = static_cast<std::uint32_t>(c_.visits.size());
+    if (detail_) first_visit_ = static_cast<std::uint32_t>(c_.detail->visits.size());
     entered_ = UnitCycles{};
   }
   void visit(const SphereVisit& v) {
@@ -84,7 +93,6 @@ class Recorder {
     }
     VisitWork w;
     w.entry = v.entry;
-    w.sphere = v.sphere;
     w.spheres_before = spheres_before_;
     w.nodes_before = nodes_before_;
     spheres_before_ = nodes_before_ = 0;
@@ -93,7 +101,7 @@ class Recorder {
     w.stall = static_cast<std::uint32_t>(vc.stall);
     w.tri_tests = static_cast<std::uint32_t>(v.work.tri_tests());
     w.box_tests = static_cast<std::uint32_t>(v.work.box_tests);
-    c_.visits.push_back(w);
+    c_.detail->visits.push_back(w);
   }
   void end_unit(std::uint32_t u, const UnitAnswer<T>& a) {
     UnitCycles& total = t_.units[u];
@@ -124,8 +132,13 @@ class Recorder {
     c_.records.push_back({u, w});
     ++c_.records_of[u];
     if (!detail_) return;
-    c_.details.push_back({sphere_tests_, node_tests_, first_visit_, visits_});
-    c_.visits_of[u] += visits_;
+    c_.detail->records[u].push_back({first_visit_, visits_});
+    if (!regs_[u].top.empty()) {
+      c_.detail->tree_tests[u].push_back({sphere_tests_, node_tests_});
+    } else if (node_tests_ != 0 ||  // flat: FunctionalFrame::sphere_tests_of derives them
+               sphere_tests_ != (a.occluded ? c_.detail->visits.back().entry + 1 : regs_[u].size())) {
+      throw std::logic_error("functional trace: a flat unit's sphere tests are not what its answer implies");
+    }
   }
   void end_ray() {}
 
@@ -133,6 +146,7 @@ class Recorder {
   Chunk<T>& c_;
   Totals& t_;
   const Arch& arch_;
+  const std::vector<IuRegisters<T>>& regs_;
   const bool detail_;
   const std::uint32_t node_bytes_, triangle_bytes_;
   int kind_ = 0;
@@ -164,6 +178,16 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
 
   const FrameTraceInputs<T> in{g, units, camera, shader, arch.memory.model == MemoryModel::latency};
   std::vector<Chunk<T>> chunks(chunk_count(pixels, kPixelsPerChunk));
+  out.detail.resize(detail ? chunks.size() : 0);
+  for (std::size_t c = 0; c < out.detail.size(); ++c) {
+    auto& d = out.detail[c];
+    d.visits.clear();
+    d.records.resize(n_units);
+    d.tree_tests.resize(n_units);
+    for (auto& r : d.records) r.clear();
+    for (auto& t : d.tree_tests) t.clear();
+    chunks[c].detail = &d;
+  }
   struct Local {
     Totals totals;
     PixelScratch<T> scratch;
@@ -178,9 +202,10 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
   parallel_chunks(pixels, kPixelsPerChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
     throw_if_stopped();
     Local& l = locals.local();
-    Recorder<T> rec(chunks[c], l.totals, arch, n_units, detail);
+    Recorder<T> rec(chunks[c], l.totals, arch, units, detail);
     for (std::size_t p = begin; p < end; ++p)
       trace_pixel(in, static_cast<int>(p % width), static_cast<int>(p / width), out.image, rec, l.scratch);
+    chunks[c].shrink();
   });
 
   for (auto& k : out.per_sphere) k.assign(spheres, WorkCounts{});
@@ -199,36 +224,31 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
   // the chunks' local indices turned into the frame's and the unit's.
   const std::size_t n_chunks = chunks.size();
   std::vector<std::size_t> ray_base(n_chunks + 1, 0), pixel_base(n_chunks + 1, 0);
-  // [chunk][unit]: where the chunk's records, visits and hits start in the unit's arrays
-  std::vector<std::uint32_t> rec_base(n_chunks * n_units), visit_base(n_chunks * n_units), hit_base(n_chunks * n_units);
+  // [chunk][unit]: where the chunk's records and hits start in the unit's arrays
+  std::vector<std::uint32_t> rec_base(n_chunks * n_units), hit_base(n_chunks * n_units);
   out.units.resize(n_units);
   for (std::size_t u = 0; u < n_units; ++u) {
-    std::uint32_t r = 0, v = 0, h = 0;
+    std::uint32_t r = 0, h = 0;
     for (std::size_t c = 0; c < n_chunks; ++c) {
       rec_base[c * n_units + u] = r;
-      visit_base[c * n_units + u] = v;
       hit_base[c * n_units + u] = h;
       r += chunks[c].records_of[u];
-      v += chunks[c].visits_of[u];
       h += chunks[c].hits_of[u];
     }
     out.units[u].work.resize(r);
     out.units[u].hits.resize(h);
-    out.units[u].sphere_tests.resize(detail ? r : 0);
-    out.units[u].node_tests.resize(detail ? r : 0);
-    out.units[u].visit_first.resize(detail ? r + 1 : 0);
-    out.units[u].visits.resize(v);
-    if (detail) out.units[u].visit_first[r] = v;
   }
   for (std::size_t c = 0; c < n_chunks; ++c) {
     ray_base[c + 1] = ray_base[c] + chunks[c].rays.size();
     pixel_base[c + 1] = pixel_base[c] + chunks[c].pixel_rays.size();
   }
+  out.record_base = rec_base;
   const std::size_t rays = ray_base[n_chunks];
   out.rays.resize(rays);
   out.pixel_rays.resize(pixels + 1);
   parallel_chunks(n_chunks, 1, [&](std::size_t c, std::size_t, std::size_t) {
     Chunk<T>& k = chunks[c];
+    // The detail stays where the chunk wrote it (FunctionalFrame::visits_of): no copy.
     std::copy(k.rays.begin(), k.rays.end(), out.rays.begin() + static_cast<std::ptrdiff_t>(ray_base[c]));
     auto r = static_cast<std::uint32_t>(ray_base[c]);
     for (std::size_t p = 0; p < k.pixel_rays.size(); ++p) {
@@ -236,7 +256,6 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
       r += k.pixel_rays[p];
     }
     std::vector<std::uint32_t> next_rec(rec_base.begin() + c * n_units, rec_base.begin() + (c + 1) * n_units);
-    std::vector<std::uint32_t> next_visit(visit_base.begin() + c * n_units, visit_base.begin() + (c + 1) * n_units);
     std::vector<std::uint32_t> next_hit(hit_base.begin() + c * n_units, hit_base.begin() + (c + 1) * n_units);
     for (std::size_t j = 0; j < k.records.size(); ++j) {
       const ChunkRecord& cr = k.records[j];
@@ -249,14 +268,6 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
       }
       const std::uint32_t i = next_rec[cr.unit]++;
       ut.work[i] = w;
-      if (!detail) continue;
-      const ChunkDetail& d = k.details[j];
-      ut.sphere_tests[i] = d.sphere_tests;
-      ut.node_tests[i] = d.node_tests;
-      ut.visit_first[i] = next_visit[cr.unit];
-      std::copy(k.visits.begin() + d.first_visit, k.visits.begin() + d.first_visit + d.visits,
-                ut.visits.begin() + next_visit[cr.unit]);
-      next_visit[cr.unit] += d.visits;
     }
     k = Chunk<T>{};  // its memory back before the next chunk's copy: peak = the frame, not twice it
   });
@@ -274,6 +285,12 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
       before += static_cast<std::uint32_t>(__builtin_popcountll(ut.has[i]));
     }
   });
+#ifdef __GLIBC__
+  // The chunks' working storage, freed above by the pool's threads, stays in their malloc
+  // arenas, counted in the process's memory for the rest of the frame: hand it back. (Once
+  // per frame; on the room's 256x256 frame with --vcd it is 40 MB of peak resident memory.)
+  malloc_trim(0);
+#endif
 }
 
 template struct FunctionalFrame<float>;

@@ -36,7 +36,6 @@ constexpr std::uint32_t kOccluded = kNone - 1;
 // A sphere a unit entered on a ray (detail).
 struct VisitWork {
   std::uint32_t entry = 0;   // position in the unit's registers
-  std::uint32_t sphere = 0;  // global sphere id
   std::uint32_t spheres_before = 0, nodes_before = 0;  // tests since the previous entered sphere, this one's included
   std::uint32_t box = 0, primitive = 0, stall = 0;  // cycles (the transform is the kernel's cost)
   std::uint32_t tri_tests = 0, box_tests = 0;       // what it streamed from object memory
@@ -51,11 +50,6 @@ struct UnitTrace {
   std::vector<HitRecord<T>> hits;
   std::vector<std::uint64_t> has;   // bit r % 64 of word r / 64: ray r has a record
   std::vector<std::uint32_t> rank;  // per word: records of the rays before it
-  // Detail, per record: register entries tested (a shadow ray stops at its first occluder),
-  // nodes of the unit's tree tested (--top bvh) and its entered spheres, visits[visit_first[i],
-  // visit_first[i + 1]).
-  std::vector<std::uint32_t> sphere_tests, node_tests, visit_first;
-  std::vector<VisitWork> visits;
 
   const UnitRayWork* find(std::uint32_t r) const {
     const std::uint64_t m = has[r >> 6];
@@ -68,12 +62,31 @@ struct UnitTrace {
 
 template <typename T>
 struct FunctionalFrame {
+  FunctionalFrame() = default;
+  FunctionalFrame(const FunctionalFrame&) = delete;  // the records point into visit_store
+  FunctionalFrame& operator=(const FunctionalFrame&) = delete;
+  FunctionalFrame(FunctionalFrame&&) = default;
+  FunctionalFrame& operator=(FunctionalFrame&&) = default;
+
   // Rays in functional order: per pixel its primary ray, then its shadow rays in light order.
   // A ray's id everywhere in the timed model is its index here.
   std::vector<RayRecord<T>> rays;
   std::vector<std::uint32_t> pixel_rays;  // pixel p owns rays [pixel_rays[p], pixel_rays[p + 1])
   std::vector<UnitTrace<T>> units;
   bool detailed = false;                  // the records' detail was kept
+  // The detail, per chunk of kPixelsPerChunk pixels, as the trace wrote it (never copied: a
+  // frame's detail is held once): its visits, and per unit its records' entered spheres in
+  // ray order (where they start, how many) and, with a tree, the entries and nodes tested.
+  struct RecordDetail {
+    std::uint32_t first_visit, visits;
+  };
+  struct ChunkDetail {
+    std::vector<VisitWork> visits;
+    std::vector<std::vector<RecordDetail>> records;                    // [unit]
+    std::vector<std::vector<std::array<std::uint32_t, 2>>> tree_tests;  // [unit with a tree]: sphere, node tests
+  };
+  std::vector<ChunkDetail> detail;
+  std::vector<std::uint32_t> record_base;  // [chunk * units + unit]: the unit's records in earlier chunks
   FrameImage image;                       // what the frame renders (the GPP's pixels must agree)
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere]
   std::vector<UnitCycles> unit_cycles;    // per unit, busy and memory stall (no bus time)
@@ -90,6 +103,40 @@ struct FunctionalFrame {
   std::uint64_t cycles(const UnitRayWork* w, std::uint32_t u) const {
     if (w) return w->cycles;
     return unit_top[u] ? node_cost : std::uint64_t{unit_entries[u]} * sphere_cost;  // with a tree: the root, missed
+  }
+  // Detail of unit u's record i: the spheres it entered, in the order it entered them.
+  struct Visits {
+    const VisitWork *first, *last;
+    const VisitWork* begin() const { return first; }
+    const VisitWork* end() const { return last; }
+    std::uint32_t size() const { return static_cast<std::uint32_t>(last - first); }
+  };
+  Visits visits_of(std::uint32_t u, std::uint32_t i) const {
+    const auto [c, j] = detail_index(u, i);
+    const RecordDetail& d = detail[c].records[u][j];
+    const VisitWork* first = detail[c].visits.data() + d.first_visit;
+    return {first, first + d.visits};
+  }
+  // ... the register entries it tested: every one, but a shadow ray stops at its occluder,
+  // which is its last entered sphere (traverse.h); with a tree, as the trace recorded them.
+  std::uint32_t sphere_tests_of(std::uint32_t u, std::uint32_t i) const {
+    if (unit_top[u]) {
+      const auto [c, j] = detail_index(u, i);
+      return detail[c].tree_tests[u][j][0];
+    }
+    if (units[u].work[i].answer == kOccluded) return visits_of(u, i).last[-1].entry + 1;
+    return unit_entries[u];
+  }
+  // ... and the nodes of its tree it tested.
+  std::uint32_t node_tests_of(std::uint32_t u, std::uint32_t i) const {
+    if (!unit_top[u]) return 0;
+    const auto [c, j] = detail_index(u, i);
+    return detail[c].tree_tests[u][j][1];
+  }
+  // Unit u's record i is record j of the unit in chunk c.
+  std::pair<std::size_t, std::size_t> detail_index(std::uint32_t u, std::uint32_t i) const {
+    const std::size_t c = rays[units[u].work[i].ray].pixel / kPixelsPerChunk;
+    return {c, i - record_base[c * units.size() + u]};
   }
   // Unit u's answer to ray r.
   UnitAnswer<T> answer(const UnitRayWork* w, std::uint32_t u) const {
@@ -128,8 +175,7 @@ void for_each_phase(const FunctionalFrame<T>& f, const UnitRayWork* w, std::uint
   const UnitTrace<T>& ut = f.units[u];
   const std::uint32_t i = ut.index(w);
   std::uint32_t spheres = 0, nodes = 0;
-  for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
-    const VisitWork& v = ut.visits[k];
+  for (const VisitWork& v : f.visits_of(u, i)) {
     emit(6, std::uint64_t{v.nodes_before} * f.node_cost);
     emit(1, std::uint64_t{v.spheres_before} * f.sphere_cost);
     spheres += v.spheres_before;
@@ -139,8 +185,8 @@ void for_each_phase(const FunctionalFrame<T>& f, const UnitRayWork* w, std::uint
     emit(3, v.primitive);
     emit(4, v.stall);
   }
-  emit(6, std::uint64_t{ut.node_tests[i] - nodes} * f.node_cost);
-  emit(1, std::uint64_t{ut.sphere_tests[i] - spheres} * f.sphere_cost);
+  emit(6, std::uint64_t{f.node_tests_of(u, i) - nodes} * f.node_cost);
+  emit(1, std::uint64_t{f.sphere_tests_of(u, i) - spheres} * f.sphere_cost);
 }
 
 extern template struct FunctionalFrame<float>;

@@ -75,6 +75,7 @@ IntersectionUnit<T>::IntersectionUnit(const sc_module_name& name, int id, const 
       sync_misses_(sync_misses(arch, clock_.mode())),
       addresses_(geometry),
       vcd_(vcd),
+      writer_(vcd),
       timeline_(timeline) {
   cfg.register_b_transport(this, &IntersectionUnit::cfg_transport);
   if (arch.iu.model == IuModel::pipelined) {
@@ -190,8 +191,7 @@ std::uint64_t IntersectionUnit<T>::trace_through_cache(std::uint32_t ray, const 
   const sc_time start = clock_.now();
   std::uint32_t spheres = 0, nodes = 0;
   std::uint64_t trace_stall = 0, stall = 0;
-  for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
-    const VisitWork& v = ut.visits[k];
+  for (const VisitWork& v : frame_.visits_of(static_cast<std::uint32_t>(id_), i)) {
     advance_tracing(ray, UnitState::node, std::uint64_t{v.nodes_before} * frame_.node_cost);
     advance_tracing(ray, UnitState::sphere, std::uint64_t{v.spheres_before} * frame_.sphere_cost);
     nodes += v.nodes_before;
@@ -206,7 +206,8 @@ std::uint64_t IntersectionUnit<T>::trace_through_cache(std::uint32_t ray, const 
       if (again.box_setups) trace_state(UnitState::box, clock_.now() + sc_time::from_value(transform * cycle_.value()));
     }
     const std::uint64_t bytes = std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node;
-    MemoryReadPacket packet{v.sphere, bytes, &stream_, &costs, sync_misses_, vcd_ ? vcd_state_ : -1};
+    const std::uint32_t sphere = regs_.sphere[v.entry];
+    MemoryReadPacket packet{sphere, bytes, &stream_, &costs, sync_misses_, vcd_ ? vcd_state_ : -1};
     read_.set_command(tlm::TLM_READ_COMMAND);
     read_.set_address(0);
     read_.set_data_ptr(reinterpret_cast<unsigned char*>(&packet));
@@ -217,7 +218,7 @@ std::uint64_t IntersectionUnit<T>::trace_through_cache(std::uint32_t ray, const 
     sc_time delay = clock_.offset();
     mem->b_transport(read_, delay);
     if (read_.is_response_error())
-      SC_REPORT_FATAL(name(), ("object memory does not hold sphere " + std::to_string(v.sphere)).c_str());
+      SC_REPORT_FATAL(name(), ("object memory does not hold sphere " + std::to_string(sphere)).c_str());
     if (sync_misses_) clock_.resync();
     clock_.advance_to(sc_time_stamp() + delay);  // the visit's end
     stall += packet.stall;
@@ -229,8 +230,9 @@ std::uint64_t IntersectionUnit<T>::trace_through_cache(std::uint32_t ray, const 
                        {{"ray", ray}, {"cache_stall", packet.stall}});
     }
   }
-  advance_tracing(ray, UnitState::node, std::uint64_t{ut.node_tests[i] - nodes} * frame_.node_cost);
-  advance_tracing(ray, UnitState::sphere, std::uint64_t{ut.sphere_tests[i] - spheres} * frame_.sphere_cost);
+  const auto unit = static_cast<std::uint32_t>(id_);
+  advance_tracing(ray, UnitState::node, std::uint64_t{frame_.node_tests_of(unit, i) - nodes} * frame_.node_cost);
+  advance_tracing(ray, UnitState::sphere, std::uint64_t{frame_.sphere_tests_of(unit, i) - spheres} * frame_.sphere_cost);
   stats_.cache_stall += stall;
   const std::uint64_t spent = w.cycles - trace_stall + stall;  // busy, and the cache's stall
   if (static_cast<std::uint64_t>((clock_.now() - start).value() / cycle_.value()) != spent)
@@ -261,14 +263,13 @@ void IntersectionUnit<T>::run() {
     const UnitRayWork* w = frame_.find(e.ray, unit);
     ++stats_.rays[kind];
     const UnitTrace<T>& ut = frame_.units[unit];
-    if (cached_ && w && ut.visit_first[ut.index(w) + 1] > ut.visit_first[ut.index(w)]) {
+    if (cached_ && w && frame_.visits_of(unit, ut.index(w)).size() > 0) {
       stats_.charged += trace_through_cache(e.ray, r, *w);  // the trace keeps the detail for caches (Gpp)
     } else {
       if (w && frame_.detailed) {
         const std::uint32_t i = ut.index(w);
-        for (std::uint32_t k = ut.visit_first[i]; k < ut.visit_first[i + 1]; ++k) {
-          const VisitWork& v = ut.visits[k];
-          read_memory(v.sphere, std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node);
+        for (const VisitWork& v : frame_.visits_of(static_cast<std::uint32_t>(id_), i)) {
+          read_memory(regs_.sphere[v.entry], std::uint64_t{v.tri_tests} * triangle_bytes_ + std::uint64_t{v.box_tests} * Bytes<T>::node);
         }
       } else if (w) {
         read_memory(kNone, w->bytes);
@@ -279,8 +280,9 @@ void IntersectionUnit<T>::run() {
       clock_.advance(sc_time::from_value(cycles * cycle_.value()));
     }
     // Running ahead, with the trace writer full: let the units behind catch up (vcd_writer.h).
-    if (vcd_ && vcd_->full() && clock_.mode() == LocalClock::Mode::ahead && clock_.offset() > trace_lead_ &&
-        vcd_->over_budget())
+    // (Whether or not its own state is traced: its FIFO's pops and its memory's misses are.)
+    if (writer_ && writer_->full() && clock_.mode() == LocalClock::Mode::ahead && clock_.offset() > trace_lead_ &&
+        writer_->over_budget())
       clock_.catch_up();
 
     // Answer the GPP. The unit waits for its transfer: time on the bus is a stall.
@@ -330,11 +332,11 @@ void IntersectionUnit<T>::take(const RayEntry& e, Cycle t) {
   std::uint32_t n = 0, tests = frame_.unit_entries[unit];
   if (w) {  // the trace keeps the detail for a pipeline (Gpp)
     const std::uint32_t i = ut.index(w);
-    visits = ut.visits.data() + ut.visit_first[i];
-    n = ut.visit_first[i + 1] - ut.visit_first[i];
-    tests = ut.sphere_tests[i];
+    visits = frame_.visits_of(unit, i).first;
+    n = frame_.visits_of(unit, i).size();
+    tests = frame_.sphere_tests_of(unit, i);
     for (std::uint32_t k = 0; k < n; ++k)
-      read_memory(visits[k].sphere, std::uint64_t{visits[k].tri_tests} * triangle_bytes_);
+      read_memory(regs_.sphere[visits[k].entry], std::uint64_t{visits[k].tri_tests} * triangle_bytes_);
   }
   const PipelinedUnitTiming::Taken k = pipe_->take(t, cycle_of(e.avail), tests, visits, n);
   ++stats_.rays[static_cast<int>(frame_.rays[e.ray].kind)];

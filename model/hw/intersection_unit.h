@@ -123,7 +123,8 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   const GeometryAddresses<T> addresses_;
   VisitStream stream_;
   tlm::tlm_generic_payload answer_, read_;
-  VcdWriter* vcd_;  // null when not traced
+  VcdWriter* vcd_;  // null when its state is not traced
+  VcdWriter* writer_;  // the waveform writer, whatever it traces (its budget, vcd_writer.h)
   int vcd_state_ = -1;
   static constexpr UnitState kStateUnknown = static_cast<UnitState>(0xff);
   UnitState traced_state_ = UnitState::idle;  // the last state reported to vcd_ (by the unit)

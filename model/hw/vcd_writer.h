@@ -41,7 +41,7 @@ class VcdWriter {
   static constexpr int kNotTraced = -1;  // add()'s handle for a variable the filter leaves out
   static constexpr std::uint64_t kNever = ~std::uint64_t{0};
   static constexpr std::size_t kFlushEvery = 1 << 16;  // new entries between flushes
-  static constexpr std::size_t kDefaultBudget = 1 << 18;  // entries (16 bytes each)
+  static constexpr std::size_t kDefaultBudget = 1 << 17;  // entries (16 bytes each)
   static constexpr std::size_t kMaxBatch = 1 << 17;       // entries handed to the output at once
 
   explicit VcdWriter(std::string path);
