@@ -20,6 +20,8 @@ void set_thread_count(int threads) {
   g_threads = threads > 0 ? threads : 0;
   g_control = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                      static_cast<std::size_t>(thread_count()));
+  // Start the pool's threads now, once per process, rather than inside the first frame.
+  parallel_chunks(static_cast<std::size_t>(thread_count()), 1, [](std::size_t, std::size_t, std::size_t) {});
 }
 
 int thread_count() { return g_threads > 0 ? g_threads : tbb::info::default_concurrency(); }
