@@ -178,6 +178,12 @@ TEST_CASE("cli: bad IU and technology options end with a clear message and exit 
   r = run_oprt("render " + scene("paper_room.json") + " --iu pipelined --accel bvh --out " + d.string());
   CHECK(r.status == 2);
   CHECK(r.output.find("brute force") != std::string::npos);
+  r = run_oprt("render " + scene("paper_room.json") + " --iu pipelined --top bvh --out " + d.string());
+  CHECK(r.status == 2);
+  CHECK(r.output.find("iu.model pipelined with top bvh") != std::string::npos);
+  r = run_oprt("render " + scene("paper_room.json") + " --iu pipelined --sram 16K --out " + d.string());
+  CHECK(r.status == 2);
+  CHECK(r.output.find("iu.model pipelined with memory.sram_bytes") != std::string::npos);
   r = run_oprt("render " + scene("paper_room.json") + " --arch " +
                write_arch(d, "q", R"({"format": "oprt-arch/1", "iu": {"model": "pipelined", "rays_in_flight": 0}})"));
   CHECK(r.status == 2);
@@ -191,4 +197,24 @@ TEST_CASE("cli: bad IU and technology options end with a clear message and exit 
   CHECK(r.status == 2);
   CHECK(r.output.find("none.json") != std::string::npos);
   CHECK_FALSE(fs::exists(d / "out" / "stats.json"));
+}
+
+TEST_CASE("cli: a pipelined unit's stages are the `stage` signal group of its unit", "[cli][pipelined][trace]") {
+  const fs::path d = temp_dir("pipelined_stage_signals");
+  REQUIRE(run_oprt("render " + scene("paper_room.json") +
+                   " --iu pipelined --ius 4 --frames 0 --resolution 16x16 --no-progress --trace-units 1 --trace-signals stage"
+                   " --vcd " + (d / "t.vcd").string() + " --out " + d.string())
+              .status == 0);
+  const std::string vcd = bytes_of(d / "t.vcd");
+  // Unit 1's sphere, transform and triangle units, its two queues and its rays in flight;
+  // nothing of another unit, nor another group.
+  std::size_t vars = 0;
+  for (std::size_t at = vcd.find("$var "); at != std::string::npos; at = vcd.find("$var ", at + 1)) ++vars;
+  CHECK(vars == 6);
+  for (const char* name : {" sphere $end", " transform $end", " triangle $end", " transform_queue $end",
+                           " triangle_queue $end", " rays_in_flight $end"})
+    CHECK(vcd.find(name) != std::string::npos);
+  CHECK(vcd.find("$scope module iu1 $end") != std::string::npos);
+  CHECK(vcd.find("$scope module iu0 $end") == std::string::npos);
+  CHECK(vcd.find(" occupancy $end") == std::string::npos);
 }

@@ -7,6 +7,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <fstream>
+#include <map>
+
 using namespace oprt::test;
 
 namespace {
@@ -162,4 +165,39 @@ TEST_CASE("cli: a bad --sram ends with one message and exit status 2", "[cli][ca
   CHECK(r.output.find("smaller than one cache set") != std::string::npos);
   r = run_oprt("render " + scene("paper_room.json") + " --top octree");
   CHECK(r.status == 2);
+}
+
+TEST_CASE("cli: through 16 KB caches each unit's timeline slices add up to its busy and stall cycles",
+          "[cli][cache][trace]") {
+  const fs::path d = temp_dir("sram_timeline");
+  const std::string common =
+      "render " + scene("paper_room.json") + " --frames 0 --resolution 24x24 --sram 16K --no-progress";
+  REQUIRE(run_oprt(common + " --timeline " + (d / "t.json").string() + " --out " + d.string()).status == 0);
+  REQUIRE(run_oprt(common + " --vcd " + (d / "t.vcd").string() + " --trace-signals memory --out " + (d / "m").string())
+              .status == 0);
+  const auto st = stats(d);
+  std::ifstream in(d / "t.json");
+  const nlohmann::json timeline = nlohmann::json::parse(in);
+  // Track names ("IU 3") by thread id, then every slice's duration (us, at 100 MHz: 100 cycles).
+  std::map<std::uint64_t, int> unit_of;
+  for (const auto& e : timeline["traceEvents"])
+    if (e["ph"] == "M" && e["name"] == "thread_name" && e["args"]["name"].get<std::string>().rfind("IU ", 0) == 0)
+      unit_of[e["tid"].get<std::uint64_t>()] = std::stoi(e["args"]["name"].get<std::string>().substr(3));
+  std::map<int, double> cycles;
+  for (const auto& e : timeline["traceEvents"])
+    if (e["ph"] == "X" && unit_of.count(e["tid"].get<std::uint64_t>()))
+      cycles[unit_of[e["tid"].get<std::uint64_t>()]] += e["dur"].get<double>() * 100;
+  int caches = 0;
+  for (const auto& u : st["frames"][0]["ius"]) {
+    const int id = u["id"].get<int>();
+    INFO("unit " << id);
+    CHECK(cycles[id] == Approx(static_cast<double>(u64(u["busy_cycles"]) + u64(u["memory"]["stall_cycles"]))).margin(1));
+    caches += u["memory"]["cache"] == true;
+  }
+  CHECK(caches > 0);
+  // --trace-signals memory: the caches' misses in flight, nothing else.
+  const std::string vcd = bytes_of(d / "t.vcd");
+  CHECK(vcd.find(" misses $end") != std::string::npos);
+  CHECK(vcd.find(" state $end") == std::string::npos);
+  CHECK(vcd.find(" occupancy $end") == std::string::npos);
 }
