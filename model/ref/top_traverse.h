@@ -69,27 +69,7 @@ HitRecord<T> trace_nearest_top(const SceneGeometry<T>& mem, const IuRegisters<T>
         SphereVisit v{i, regs.sphere[i], {}};
         v.nodes_before = nodes;
         v.work.sphere_tests = 1;
-        if (hit_sphere(ray, regs.world[i])) {
-          v.work.transforms = 1;
-          const std::uint32_t s = v.sphere;
-          const Ray<T> local = regs.to_local[i].ray(ray);
-          BlockHit<T> h;
-          if (mem.has_bvh()) {
-            h = nearest_in_bvh(mem, s, local, v.work, log);
-            if (log) v.stages = log->data();
-          } else {
-            std::uint8_t* l = nullptr;
-            if (log) {
-              log->resize(mem.triangles_in(s));
-              v.stages = l = log->data();
-            }
-            h = nearest_in_block(mem.tris, mem.first[s], mem.first[s + 1], local, v.work.tri_stage, &v.work.tri_hits, l);
-          }
-          if (h.valid()) {
-            const HitRecord<T> c{h.t, mem.object[s], mem.prim[h.index], s, h.u, h.v};
-            if (closer(c, best)) best = c;
-          }
-        }
+        if (hit_sphere(ray, regs.world[i])) keep_closer(mem, v.sphere, nearest_in_sphere(mem, regs, i, ray, v, log), best);
         visit(v);
         return false;
       });
@@ -106,23 +86,7 @@ bool trace_any_top(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, cons
         SphereVisit v{i, regs.sphere[i], {}};
         v.nodes_before = nodes;
         v.work.sphere_tests = 1;
-        if (hit_sphere(ray, regs.world[i])) {
-          v.work.transforms = 1;
-          const std::uint32_t s = v.sphere;
-          const Ray<T> local = regs.to_local[i].ray(ray);
-          if (mem.has_bvh()) {
-            occluded = any_in_bvh(mem, s, local, v.work, log);
-            if (log) v.stages = log->data();
-          } else {
-            std::uint8_t* l = nullptr;
-            if (log) {
-              log->resize(mem.triangles_in(s));
-              v.stages = l = log->data();
-            }
-            occluded = any_in_block(mem.tris, mem.first[s], mem.first[s + 1], local, v.work.tri_stage,
-                                    &v.work.tri_hits, l);
-          }
-        }
+        if (hit_sphere(ray, regs.world[i])) occluded = any_in_sphere(mem, regs, i, ray, v, log);
         visit(v);
         return occluded;
       });

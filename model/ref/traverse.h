@@ -103,6 +103,53 @@ struct SphereVisit {
 // to trace_* when the memory is ideal.
 using StageLog = std::vector<std::uint8_t>;
 
+// Inside entered sphere i of the unit's registers (flat list or tree, top_traverse.h): the
+// ray carried into the sphere's local frame, then every triangle or the sphere's BVH
+// (ref/bvh_traverse.h); the work and the stage log go to v.
+template <typename T>
+BlockHit<T> nearest_in_sphere(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, std::uint32_t i,
+                              const Ray<T>& ray, SphereVisit& v, StageLog* log) {
+  v.work.transforms = 1;
+  const std::uint32_t s = v.sphere;
+  const Ray<T> local = regs.to_local[i].ray(ray);
+  if (mem.has_bvh()) {
+    const BlockHit<T> h = nearest_in_bvh(mem, s, local, v.work, log);
+    if (log) v.stages = log->data();
+    return h;
+  }
+  std::uint8_t* l = nullptr;
+  if (log) {
+    log->resize(mem.triangles_in(s));
+    v.stages = l = log->data();
+  }
+  return nearest_in_block(mem.tris, mem.first[s], mem.first[s + 1], local, v.work.tri_stage, &v.work.tri_hits, l);
+}
+template <typename T>
+bool any_in_sphere(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, std::uint32_t i, const Ray<T>& ray,
+                   SphereVisit& v, StageLog* log) {
+  v.work.transforms = 1;
+  const std::uint32_t s = v.sphere;
+  const Ray<T> local = regs.to_local[i].ray(ray);
+  if (mem.has_bvh()) {
+    const bool occluded = any_in_bvh(mem, s, local, v.work, log);
+    if (log) v.stages = log->data();
+    return occluded;
+  }
+  std::uint8_t* l = nullptr;
+  if (log) {
+    log->resize(mem.triangles_in(s));
+    v.stages = l = log->data();
+  }
+  return any_in_block(mem.tris, mem.first[s], mem.first[s + 1], local, v.work.tri_stage, &v.work.tri_hits, l);
+}
+// The unit's nearest hit so far, given sphere s's.
+template <typename T>
+void keep_closer(const SceneGeometry<T>& mem, std::uint32_t s, const BlockHit<T>& h, HitRecord<T>& best) {
+  if (!h.valid()) return;
+  const HitRecord<T> c{h.t, mem.object[s], mem.prim[h.index], s, h.u, h.v};
+  if (closer(c, best)) best = c;
+}
+
 template <typename T, typename Visit>
 HitRecord<T> trace_nearest_top(const SceneGeometry<T>&, const IuRegisters<T>&, const Ray<T>&, Visit&&, StageLog*);
 template <typename T, typename Visit>
@@ -120,30 +167,7 @@ HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& re
   for_each_sphere_test(regs, ray, [&](std::uint32_t i, bool sphere_hit) {
     SphereVisit v{i, regs.sphere[i], {}};
     v.work.sphere_tests = 1;
-    if (sphere_hit) {
-      v.work.transforms = 1;
-      const std::uint32_t s = v.sphere;
-      const Ray<T> local = regs.to_local[i].ray(ray);
-      if (mem.has_bvh()) {  // the sphere's BVH instead of every triangle (ref/bvh_traverse.h)
-        const BlockHit<T> h = nearest_in_bvh(mem, s, local, v.work, log);
-        if (log) v.stages = log->data();
-        const HitRecord<T> c{h.t, mem.object[s], h.valid() ? mem.prim[h.index] : kNone, s, h.u, h.v};
-        if (h.valid() && closer(c, best)) best = c;
-        visit(v);
-        return false;
-      }
-      std::uint8_t* l = nullptr;
-      if (log) {
-        log->resize(mem.triangles_in(s));
-        v.stages = l = log->data();
-      }
-      const BlockHit<T> h =
-          nearest_in_block(mem.tris, mem.first[s], mem.first[s + 1], local, v.work.tri_stage, &v.work.tri_hits, l);
-      if (h.valid()) {
-        const HitRecord<T> c{h.t, mem.object[s], mem.prim[h.index], s, h.u, h.v};
-        if (closer(c, best)) best = c;
-      }
-    }
+    if (sphere_hit) keep_closer(mem, v.sphere, nearest_in_sphere(mem, regs, i, ray, v, log), best);
     visit(v);
     return false;
   });
@@ -159,24 +183,7 @@ bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ra
   for_each_sphere_test(regs, ray, [&](std::uint32_t i, bool sphere_hit) {
     SphereVisit v{i, regs.sphere[i], {}};
     v.work.sphere_tests = 1;
-    if (sphere_hit) {
-      v.work.transforms = 1;
-      const std::uint32_t s = v.sphere;
-      const Ray<T> local = regs.to_local[i].ray(ray);
-      if (mem.has_bvh()) {  // ref/bvh_traverse.h
-        occluded = any_in_bvh(mem, s, local, v.work, log);
-        if (log) v.stages = log->data();
-        visit(v);
-        return occluded;
-      }
-      std::uint8_t* l = nullptr;
-      if (log) {
-        log->resize(mem.triangles_in(s));
-        v.stages = l = log->data();
-      }
-      occluded = any_in_block(mem.tris, mem.first[s], mem.first[s + 1], local, v.work.tri_stage,
-                              &v.work.tri_hits, l);
-    }
+    if (sphere_hit) occluded = any_in_sphere(mem, regs, i, ray, v, log);
     visit(v);
     return occluded;
   });
