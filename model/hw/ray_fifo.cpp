@@ -12,11 +12,6 @@ RayFifo::RayFifo(const sc_module_name& name, int depth, VcdWriter* vcd)
   if (vcd_ && (vcd_var_ = vcd_->add_counter(this->name(), "occupancy", 32)) == VcdWriter::kNotTraced) vcd_ = nullptr;
 }
 
-// A push is reported at its time, a pop at its unit's (local) time, which may lie ahead of
-// simulation time: the trace is the running sum of both in time order (VcdWriter counter).
-void RayFifo::trace_occupancy(const sc_time& at, int delta) {
-  if (vcd_) vcd_->change_by(vcd_var_, at.value(), delta);
-}
 
 sc_time RayFifo::space_time() const {
   if (depth_ == 0 || pushes_ < static_cast<std::uint64_t>(depth_)) return SC_ZERO_TIME;

@@ -66,7 +66,11 @@ class RayFifo : public sc_core::sc_module, public RayFifoIf, public Waiter {
  private:
   void b_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
   // not trace(): sc_object::trace is virtual
-  void trace_occupancy(const sc_core::sc_time& at, int delta);
+  // A push is reported at its time, a pop at its unit's (local) time, which may lie ahead of
+  // simulation time: the trace is the running sum of both in time order (VcdWriter counter).
+  void trace_occupancy(const sc_core::sc_time& at, int delta) {
+    if (vcd_) vcd_->change_by(vcd_var_, at.value(), delta);
+  }
 
   int depth_;
   std::deque<RayEntry> queue_;

@@ -290,16 +290,6 @@ void VcdWriter::too_early(int var, std::uint64_t t) const {
 // A counter's pushes and pops come from different processes, each in its own time order:
 // each lane takes one stream (the lane whose last entry is the latest not after t), so
 // appends stay appends.
-VcdWriter::Lane& VcdWriter::counter_lane(Var& x, std::uint64_t t) {
-  Lane& a = x.lanes[0];
-  Lane& b = x.lanes[1];
-  const bool fits_a = a.empty() || t >= a.e.back().time;
-  const bool fits_b = b.empty() || t >= b.e.back().time;
-  if (fits_a && fits_b) return b.empty() || (!a.empty() && a.e.back().time >= b.e.back().time) ? a : b;
-  if (fits_a) return a;
-  if (fits_b) return b;
-  return a.e.back().time <= b.e.back().time ? a : b;
-}
 
 void VcdWriter::fold(Var& x, std::uint64_t t, std::uint64_t v) {
   if (x.counter) {

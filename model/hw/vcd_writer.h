@@ -163,6 +163,19 @@ inline void VcdWriter::change(int var, std::uint64_t t, std::uint64_t value) {
   else put(x.lanes[0], t, value, false);
 }
 
+// A counter's pushes and pops each come in time order: two lanes, each in order (the first
+// that takes t without an insertion; one of them normally does).
+inline VcdWriter::Lane& VcdWriter::counter_lane(Var& x, std::uint64_t t) {
+  Lane& a = x.lanes[0];
+  Lane& b = x.lanes[1];
+  const bool fits_a = a.empty() || t >= a.e.back().time;
+  const bool fits_b = b.empty() || t >= b.e.back().time;
+  if (fits_a && fits_b) return b.empty() || (!a.empty() && a.e.back().time >= b.e.back().time) ? a : b;
+  if (fits_a) return a;
+  if (fits_b) return b;
+  return a.e.back().time <= b.e.back().time ? a : b;
+}
+
 inline void VcdWriter::change_by(int var, std::uint64_t t, std::int64_t delta) {
   if (!take(var, t)) return;
   Var& x = vars_[static_cast<std::size_t>(var)];
