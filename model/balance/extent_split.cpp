@@ -1,6 +1,7 @@
 #include "balance/extent_split.h"
 
 #include "geom/bounding_sphere.h"
+#include "geom/bvh.h"
 
 #include <algorithm>
 #include <limits>
@@ -40,26 +41,12 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-struct Box {
-  Vec3d lo{std::numeric_limits<double>::max()}, hi{-std::numeric_limits<double>::max()};
-  void add(const Vec3d& p) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  void add(const Box& b) {
-    lo = glm::min(lo, b.lo);
-    hi = glm::max(hi, b.hi);
-  }
-  double diagonal2() const {
-    const Vec3d d = hi - lo;
-    return dot3(d, d);
-  }
-};
+using Bounds = Box<double>;  // geom/bvh.h
 
 struct Item {
   std::uint32_t id;
   Vec3d centroid;
-  Box box;
+  Bounds box;
 };
 
 void sort_on(std::vector<Item>& items, int axis) {
@@ -92,14 +79,14 @@ class Splitter {
     double best = std::numeric_limits<double>::max();
     int best_axis = -1;
     std::size_t best_at = 0;
-    std::vector<Box> right(n);
+    std::vector<Bounds> right(n);
     for (int axis = 0; axis < 3; ++axis) {
       sort_on(items, axis);
-      Box acc;
-      for (std::size_t i = n; i-- > 0;) acc.add(items[i].box), right[i] = acc;
-      acc = Box{};
+      Bounds acc;
+      for (std::size_t i = n; i-- > 0;) acc.extend(items[i].box), right[i] = acc;
+      acc = Bounds{};
       for (std::size_t at = 1; at < n; ++at) {
-        acc.add(items[at - 1].box);
+        acc.extend(items[at - 1].box);
         if (!(items[at - 1].centroid[axis] < items[at].centroid[axis])) continue;  // not a gap
         const double cost = acc.diagonal2() * (c_.transform + static_cast<double>(at) * c_.triangle) +
                             right[at].diagonal2() * (c_.transform + static_cast<double>(n - at) * c_.triangle);
@@ -127,7 +114,7 @@ std::vector<std::vector<std::uint32_t>> split_by_extent(const Mesh& mesh, const 
     Item it{t, Vec3d(0), {}};
     for (std::uint32_t v : mesh.triangles[t]) {
       it.centroid += mesh.vertices[v] / 3.0;
-      it.box.add(mesh.vertices[v]);
+      it.box.extend(mesh.vertices[v]);
     }
     all.push_back(it);
   }

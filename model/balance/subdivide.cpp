@@ -1,5 +1,7 @@
 #include "balance/subdivide.h"
 
+#include "geom/bvh.h"
+
 #include <algorithm>
 #include <limits>
 #include <numeric>
@@ -8,27 +10,13 @@ namespace oprt {
 
 namespace {
 
-struct Box {
-  Vec3d lo{std::numeric_limits<double>::max()}, hi{-std::numeric_limits<double>::max()};
-  void add(const Vec3d& p) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  void add(const Box& b) {
-    lo = glm::min(lo, b.lo);
-    hi = glm::max(hi, b.hi);
-  }
-  // A sphere around the box has radius half its diagonal: area proportional to diag^2.
-  double sphere_area_proxy() const {
-    const Vec3d d = hi - lo;
-    return lo.x > hi.x ? 0 : dot3(d, d);
-  }
-};
+// geom/bvh.h; diagonal2() is proportional to the area of a sphere around it
+using Bounds = Box<double>;
 
 struct Prim {
   std::uint32_t id;
   Vec3d centroid;
-  Box box;
+  Bounds box;
 };
 
 // Split `prims` into k clusters. The rule serves the balance the clusters are made for: a
@@ -59,17 +47,17 @@ void split(std::vector<Prim> p, int k, std::vector<std::vector<std::uint32_t>>& 
       return a.centroid[axis] < b.centroid[axis] || (a.centroid[axis] == b.centroid[axis] && a.id < b.id);
     });
     // Prefix and suffix boxes, then every candidate cut in O(1).
-    std::vector<Box> left(n), right(n);
-    Box acc;
-    for (std::size_t i = 0; i < n; ++i) acc.add(p[i].box), left[i] = acc;
-    acc = Box{};
-    for (std::size_t i = n; i-- > 0;) acc.add(p[i].box), right[i] = acc;
+    std::vector<Bounds> left(n), right(n);
+    Bounds acc;
+    for (std::size_t i = 0; i < n; ++i) acc.extend(p[i].box), left[i] = acc;
+    acc = Bounds{};
+    for (std::size_t i = n; i-- > 0;) acc.extend(p[i].box), right[i] = acc;
     const std::size_t candidates = std::min<std::size_t>(32, n - 1);
     for (std::size_t c = 1; c <= candidates; ++c) {
       const std::size_t cut = c * n / (candidates + 1);  // left = [0, cut)
       if (cut < static_cast<std::size_t>(k_left) || n - cut < static_cast<std::size_t>(k_right)) continue;
-      const double cost = std::max(left[cut - 1].sphere_area_proxy() * cut / k_left,
-                                   right[cut].sphere_area_proxy() * (n - cut) / k_right);
+      const double cost = std::max(left[cut - 1].diagonal2() * cut / k_left,
+                                   right[cut].diagonal2() * (n - cut) / k_right);
       if (cost < best) best = cost, best_axis = axis, best_cut = cut;
     }
   }
@@ -91,8 +79,8 @@ void split_median(std::vector<Prim> p, int k, std::vector<std::vector<std::uint3
     out.push_back(std::move(ids));
     return;
   }
-  Box c;
-  for (const Prim& q : p) c.add(q.centroid);
+  Bounds c;
+  for (const Prim& q : p) c.extend(q.centroid);
   const Vec3d e = c.hi - c.lo;
   const int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
   const int k_left = k / 2;
@@ -122,7 +110,7 @@ std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, const std::v
     Prim q{t, Vec3d(0), {}};
     for (std::uint32_t v : mesh.triangles[t]) {
       q.centroid += mesh.vertices[v] / 3.0;
-      q.box.add(mesh.vertices[v]);
+      q.box.extend(mesh.vertices[v]);
     }
     prims.push_back(q);
   }

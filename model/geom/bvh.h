@@ -32,6 +32,13 @@ struct Box {
     const Vec3<T> e = hi - lo;
     return 2 * (e.x * e.y + e.y * e.z + e.z * e.x);
   }
+  // Its diagonal squared (0 when empty): a sphere around the box has half the diagonal as its
+  // radius, so this is proportional to that sphere's area.
+  T diagonal2() const {
+    if (empty()) return 0;
+    const Vec3<T> d = hi - lo;
+    return d.x * d.x + d.y * d.y + d.z * d.z;
+  }
   bool contains(const Box& b) const {
     return lo.x <= b.lo.x && lo.y <= b.lo.y && lo.z <= b.lo.z && hi.x >= b.hi.x && hi.y >= b.hi.y && hi.z >= b.hi.z;
   }
