@@ -220,16 +220,9 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
       if (pipelined) {
         PipelinedUnitTiming& p = pipes_[u];
         start = std::max(static_cast<Cycles>(p.ready()), avail);
-        const UnitTrace<T>& ut = f.units[u];
-        const VisitWork* visits = nullptr;
-        std::uint32_t n = 0, tests = f.unit_entries[u];
-        if (w) {
-          const std::uint32_t i = ut.index(w);
-          visits = f.visits_of(u, i).first;
-          n = f.visits_of(u, i).size();
-          tests = f.sphere_tests_of(u, i);
-        }
-        const auto k = p.take(static_cast<Cycle>(start), static_cast<Cycle>(avail), tests, visits, n);
+        const auto rv = f.ray_visits(w, u);
+        const auto k = p.take(static_cast<Cycle>(start), static_cast<Cycle>(avail), rv.sphere_tests, rv.visits.first,
+                              rv.visits.size());
         done = transfer(static_cast<Cycles>(k.done), answer);
         p.retire(k.handle, k.done, static_cast<Cycle>(done));
       } else {

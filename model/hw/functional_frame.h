@@ -133,6 +133,17 @@ struct FunctionalFrame {
     const auto [c, j] = detail_index(u, i);
     return detail[c].tree_tests[u][j][1];
   }
+  // Unit u's work on a ray with record w (or none): the spheres it entered and the register
+  // entries it tested (without a record: every entry of a flat unit, none of a tree's).
+  struct RayVisits {
+    Visits visits;
+    std::uint32_t sphere_tests;
+  };
+  RayVisits ray_visits(const UnitRayWork* w, std::uint32_t u) const {
+    if (!w) return {{nullptr, nullptr}, unit_top[u] ? 0 : unit_entries[u]};
+    const std::uint32_t i = units[u].index(w);
+    return {visits_of(u, i), sphere_tests_of(u, i)};
+  }
   // Unit u's record i is record j of the unit in chunk c.
   std::pair<std::size_t, std::size_t> detail_index(std::uint32_t u, std::uint32_t i) const {
     const std::size_t c = rays[units[u].work[i].ray].pixel / kPixelsPerChunk;

@@ -327,18 +327,11 @@ void IntersectionUnit<T>::take(const RayEntry& e, Cycle t) {
   const auto unit = static_cast<std::uint32_t>(id_);
   ray_ = e.ray;
   const UnitRayWork* w = frame_.find(e.ray, unit);
-  const UnitTrace<T>& ut = frame_.units[unit];
-  const VisitWork* visits = nullptr;
-  std::uint32_t n = 0, tests = frame_.unit_entries[unit];
-  if (w) {  // the trace keeps the detail for a pipeline (Gpp)
-    const std::uint32_t i = ut.index(w);
-    visits = frame_.visits_of(unit, i).first;
-    n = frame_.visits_of(unit, i).size();
-    tests = frame_.sphere_tests_of(unit, i);
-    for (std::uint32_t k = 0; k < n; ++k)
-      read_memory(regs_.sphere[visits[k].entry], std::uint64_t{visits[k].tri_tests} * triangle_bytes_);
-  }
-  const PipelinedUnitTiming::Taken k = pipe_->take(t, cycle_of(e.avail), tests, visits, n);
+  const auto rv = frame_.ray_visits(w, unit);  // the trace keeps the detail for a pipeline (Gpp)
+  for (const VisitWork& v : rv.visits)
+    read_memory(regs_.sphere[v.entry], std::uint64_t{v.tri_tests} * triangle_bytes_);
+  const PipelinedUnitTiming::Taken k =
+      pipe_->take(t, cycle_of(e.avail), rv.sphere_tests, rv.visits.first, rv.visits.size());
   ++stats_.rays[static_cast<int>(frame_.rays[e.ray].kind)];
   // An ideal bus takes the answer at its time, whenever it is sent: send it now, annotated
   // with its time (the GPP acts on it only then), and the ray's slot is free at that time.
