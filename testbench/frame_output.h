@@ -2,7 +2,7 @@
 // image and the statistics, keep them for tests, and print a line.
 #pragma once
 
-#include "hw/analytic.h"
+#include "timing/analytic.h"
 #include "testbench.h"
 
 namespace oprt {

@@ -37,7 +37,7 @@ void write_gtkwave_save(const std::string& trace_path, const std::string& save_p
     f.close();
     if (!f) throw std::runtime_error("cannot write " + tmp);
   });
-  // A pipelined unit's stages (hw/pipeline_timing.h StageState).
+  // A pipelined unit's stages (timing/pipeline_timing.h StageState).
   const fs::path stage_filter = save.parent_path() / (save.stem().string() + "_stage.txt");
   const bool pipelined = std::any_of(signals.begin(), signals.end(),
                                      [](const TraceSignal& t) { return t.name.find(".stage.") != std::string::npos; });

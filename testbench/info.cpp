@@ -2,7 +2,7 @@
 #include "balance/spheres.h"
 #include "commands.h"
 #include "geom/bounding_sphere.h"
-#include "hw/cycle_schedule.h"
+#include "arch/cycle_schedule.h"
 #include "options.h"
 #include "ref/frame_setup.h"
 #include "scene/error.h"

@@ -6,8 +6,8 @@
 #pragma once
 
 #include "balance/assign.h"
-#include "hw/analytic.h"
-#include "hw/arch.h"
+#include "timing/analytic.h"
+#include "arch/arch.h"
 #include "ref/scene_geometry.h"
 
 #include <optional>

@@ -1,7 +1,7 @@
 #include "render.h"
 
 #include "balance/policy.h"
-#include "hw/pipeline_timing.h"
+#include "timing/pipeline_timing.h"
 #include "ref/parallel.h"
 #include "ref/scene_geometry.h"
 #include "scene/error.h"

@@ -3,7 +3,7 @@
 // assignment are built, and the SystemC testbench (testbench.h) runs the frames.
 #pragma once
 
-#include "hw/arch.h"
+#include "arch/arch.h"
 #include "options.h"
 #include "scene/load.h"
 

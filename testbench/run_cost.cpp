@@ -1,7 +1,7 @@
 #include "run_cost.h"
 
 #include "hw/payloads.h"
-#include "hw/pipeline_timing.h"
+#include "timing/pipeline_timing.h"
 #include "tech_default.h"
 
 #include <algorithm>

@@ -1,13 +1,13 @@
 // What a run costs: its area (once per run) and each frame's energy, from a technology
 // table (--tech, testbench/tech/*.json; by default the 65 nm table built into oprt) and the
-// counters the frame collected (hw/cost_model.h). It sizes each unit's object memory,
+// counters the frame collected (cost/cost_model.h). It sizes each unit's object memory,
 // configuration registers and ray FIFO to their peak over the run so far, so the area it
 // reports can only grow as frames come in (a dynamic assignment, an unbounded FIFO).
 #pragma once
 
-#include "hw/arch.h"
-#include "hw/cost_model.h"
-#include "hw/tech.h"
+#include "arch/arch.h"
+#include "cost/cost_model.h"
+#include "cost/tech.h"
 #include "stats.h"
 
 #include <string>

@@ -3,11 +3,11 @@
 // stats.csv (one row per frame and unit). Field names are relied upon by scripts/.
 #pragma once
 
-#include "hw/arch.h"
-#include "hw/cache.h"
-#include "hw/cost_model.h"
-#include "hw/pipeline_timing.h"
-#include "hw/unit_cycles.h"
+#include "arch/arch.h"
+#include "timing/cache.h"
+#include "cost/cost_model.h"
+#include "timing/pipeline_timing.h"
+#include "timing/unit_cycles.h"
 #include "ref/work.h"
 
 #include <array>

@@ -99,7 +99,7 @@ Box<T> round_out(const Box<double>& b, double pad) {
 }
 
 // The ray as the box test uses it: origin, reciprocal direction and its signs, computed
-// once per (ray, sphere) after the transform (the IU's "box set-up", hw/cycle_schedule.cpp).
+// once per (ray, sphere) after the transform (the IU's "box set-up", arch/cycle_schedule.cpp).
 template <typename T>
 struct BoxRay {
   Vec3<T> o, inv;

@@ -1,5 +1,5 @@
 // The ray-triangle kernels an intersection unit can run. Each has its own object-memory
-// format, its own exit stages and its own cycle schedule (hw/cycle_schedule.cpp); the
+// format, its own exit stages and its own cycle schedule (arch/cycle_schedule.cpp); the
 // block functions of geom/triangle_soa.h are the one place that dispatches on it.
 #pragma once
 

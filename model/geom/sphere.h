@@ -26,7 +26,7 @@ struct Sphere {
 // see frame_setup).
 //
 // Cost: 10 multiplies and 12 adds, 14 cycles on one adder and one multiplier (see
-// hw/cycle_schedule.cpp); the paper's Table 1 charges 9 (the textbook form schedules in 10).
+// arch/cycle_schedule.cpp); the paper's Table 1 charges 9 (the textbook form schedules in 10).
 template <typename T>
 inline bool hit_sphere(const Ray<T>& ray, const Sphere<T>& s) {
   const Vec3<T> f = ray.o - s.c;

@@ -11,7 +11,7 @@ namespace oprt {
 // e2 = v2 - v0, and the unnormalised normal n = e1 x e2, all prepared once in double from
 // the model's vertices and rounded to T (48 bytes in float). Precomputing n makes the
 // first, cheapest rejection (ray parallel to the plane, or a degenerate triangle) cost
-// one dot product: 4 cycles on one adder and one multiplier (hw/cycle_schedule.h).
+// one dot product: 4 cycles on one adder and one multiplier (arch/cycle_schedule.h).
 template <typename T>
 struct MollerTriangle {
   Vec3<T> v0, e1, e2, n;

@@ -374,7 +374,7 @@ inline bool any_checked(const TriangleStore<T>& m, std::uint32_t first, std::uin
 // accepted tests to *hits; if `log` is given, writes each test's exit stage to log[k - first]
 // (the memory model needs the order). Among equal t the first (lowest index) wins. The
 // watertight kernel's per-ray set-up (dominant axis) is redone per block: the unit does it
-// once per transform, and its cost is in the transform's (hw/cycle_schedule.cpp).
+// once per transform, and its cost is in the transform's (arch/cycle_schedule.cpp).
 // The SIMD kernels (geom/simd_kernels.h) give the same results as the scalar ones; which
 // run is simd_mode()'s choice (geom/simd.h).
 template <typename T>

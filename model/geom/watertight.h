@@ -53,7 +53,7 @@ WatertightTriangle<T> prepare_watertight(const Vec3d& v0, const Vec3d& v1, const
   return {a, Vec3<T>(v1), Vec3<T>(v2)};
 }
 
-// Exit stages, in schedule order (hw/cycle_schedule.cpp, watertight_graph). As for Moller,
+// Exit stages, in schedule order (arch/cycle_schedule.cpp, watertight_graph). As for Moller,
 // a test that reaches 't' costs the same whether it accepts or rejects.
 enum class WtStage : std::uint8_t {
   uv = 0,   // edge functions U and V of strictly opposite signs

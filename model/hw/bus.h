@@ -24,10 +24,10 @@
 //             overstates contention by up to a quantum per transfer. Kept to show that.
 #pragma once
 
-#include "hw/arch.h"
-#include "hw/calendar.h"
-#include "hw/timeline.h"
-#include "hw/vcd_writer.h"
+#include "arch/arch.h"
+#include "timing/calendar.h"
+#include "trace/timeline.h"
+#include "trace/vcd_writer.h"
 
 #include <cstdint>
 #include <vector>

@@ -10,8 +10,8 @@
 // each miss (intersection_unit.cpp decides when), and then the calendar is FCFS exactly.
 #pragma once
 
-#include "hw/arch.h"
-#include "hw/calendar.h"
+#include "arch/arch.h"
+#include "timing/calendar.h"
 
 #include <cstdint>
 #include <vector>

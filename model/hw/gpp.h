@@ -15,14 +15,14 @@
 // rays, merges the answers the units send, and checks each merged answer against the trace.
 #pragma once
 
-#include "hw/arch.h"
-#include "hw/functional_frame.h"
+#include "arch/arch.h"
+#include "timing/functional_frame.h"
 #include "hw/local_clock.h"
 #include "hw/payloads.h"
 #include "hw/ray_fifo.h"
-#include "hw/timeline.h"
-#include "hw/visit_stream.h"
-#include "hw/vcd_writer.h"
+#include "trace/timeline.h"
+#include "timing/visit_stream.h"
+#include "trace/vcd_writer.h"
 #include "hw/watchdog.h"
 #include "ref/image.h"
 #include "ref/shading.h"

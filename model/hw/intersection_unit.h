@@ -18,7 +18,7 @@
 // (walked again, visit_stream.h) and lets the memory time them line by line.
 //
 // With `"iu": {"model": "pipelined"}` the unit is a pipeline of a sphere, a transform and
-// a triangle unit with several rays in flight; its timing is hw/pipeline_timing.h's, and
+// a triangle unit with several rays in flight; its timing is timing/pipeline_timing.h's, and
 // its answers leave out of ray order, each at its own time. Where nothing can observe the
 // unit (`ahead`), it takes each ray as soon as the pipeline can. Otherwise (a bounded FIFO,
 // a shared bus) it pops each ray at the simulated time the pipeline takes it. On an ideal
@@ -28,15 +28,15 @@
 // the bus has taken it.
 #pragma once
 
-#include "hw/functional_frame.h"
+#include "timing/functional_frame.h"
 #include "hw/local_clock.h"
 #include "hw/payloads.h"
-#include "hw/pipeline_timing.h"
+#include "timing/pipeline_timing.h"
 #include "hw/ray_fifo.h"
-#include "hw/unit_cycles.h"
-#include "hw/timeline.h"
-#include "hw/vcd_writer.h"
-#include "hw/visit_stream.h"
+#include "timing/unit_cycles.h"
+#include "trace/timeline.h"
+#include "trace/vcd_writer.h"
+#include "timing/visit_stream.h"
 #include "hw/watchdog.h"
 
 #include <systemc>

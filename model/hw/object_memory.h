@@ -14,10 +14,10 @@
 // over the bus. It keeps its lines from frame to frame. The VCD counts its misses in flight.
 #pragma once
 
-#include "hw/arch.h"
-#include "hw/cache.h"
-#include "hw/memory_timing.h"
-#include "hw/vcd_writer.h"
+#include "arch/arch.h"
+#include "timing/cache.h"
+#include "timing/memory_timing.h"
+#include "trace/vcd_writer.h"
 
 #include <cstdint>
 #include <vector>

@@ -5,7 +5,8 @@
 // id).
 #pragma once
 
-#include "hw/cache.h"
+#include "timing/bytes.h"
+#include "timing/cache.h"
 #include "ref/image.h"
 #include "ref/traverse.h"
 
@@ -28,36 +29,7 @@ constexpr std::uint64_t iu_ray_fifo = 0x0080'0000;     // + this unit's ray FIFO
 constexpr std::uint64_t iu_window(int unit) { return iu_base + static_cast<std::uint64_t>(unit) * iu_stride; }
 }  // namespace addr
 
-// Bytes per item as the hardware stores and moves them, in precision T.
-template <typename T>
-struct Bytes {
-  static constexpr unsigned ray = 8 + 7 * sizeof(T);                   // id, kind, o, d, tmax
-  // --top bvh: the ray also carries its reciprocal direction, computed once by the GPP for
-  // every unit's node tests (ref/top_traverse.h)
-  static constexpr unsigned ray_with_reciprocal = ray + 3 * sizeof(T);
-  static constexpr unsigned ray_bytes(bool top) { return top ? ray_with_reciprocal : ray; }
-  static constexpr unsigned nearest_answer = 12 + 8 + 3 * sizeof(T);   // ray, unit, flags; object, prim; t, u, v
-  static constexpr unsigned shadow_answer = 12;                        // ray, unit, occluded
-  static constexpr unsigned sphere_config = 4 + 16 * sizeof(T);        // id, centre, radius, 3x4 matrix
-  // per triangle, in the kernel's format: Moller v0, e1, e2, n; watertight v0, v1, v2
-  static constexpr unsigned triangle(Kernel k) { return triangle_bytes<T>(k); }
-  static constexpr unsigned node = BvhNode<T>::kBytes;                 // box, offset, count, axis
-  static constexpr unsigned top_node = 6 * sizeof(T) + 8;              // --top bvh: box, child or entry, leaf, axis
-  // A pipelined IU's queue entries: a job for the transform unit (ray slot, register
-  // entry) and one for the triangle unit (ray slot, sphere, the local ray's o and d).
-  static constexpr unsigned transform_job = 8;
-  static constexpr unsigned triangle_job = 8 + 6 * sizeof(T);
-};
 
-// Rays of the frame in flight, by id. Written by the GPP; units read the ray a FIFO entry
-// names.
-template <typename T>
-struct RayRecord {
-  Ray<T> ray;
-  RayKind kind = RayKind::primary;
-  std::uint32_t pixel = 0;
-  std::uint32_t slot = 0;  // a shadow ray's index among its pixel's shadow rays
-};
 
 template <typename T>
 struct RayPacket {
@@ -79,17 +51,6 @@ struct ConfigPacket {
   bool cached = false;  // its object memory is a cache (its spheres do not fit): time visits through it
 };
 
-// The host's command for one frame (the data of a write to the GPP's host socket).
-struct FrameCommand {
-  // Set-up before the animation: load every object memory with its unit's geometry (not
-  // part of any frame's time or statistics), then return.
-  bool setup_only = false;
-  int frame = 0;
-  std::vector<Affine<double>> to_world;  // per object
-  Camera camera;
-  int width = 0, height = 0;
-  FrameImage* image = nullptr;           // filled in
-};
 
 // Object memory contents: which spheres' triangle blocks are loaded.
 struct MemoryLoadPacket {

@@ -4,7 +4,7 @@
 // while any FIFO is full, so a full FIFO never holds the bus).
 #pragma once
 
-#include "hw/vcd_writer.h"
+#include "trace/vcd_writer.h"
 #include "hw/watchdog.h"
 
 #include <cstdint>

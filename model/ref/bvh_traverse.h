@@ -23,7 +23,7 @@
 
 namespace oprt {
 
-// Memory-order log of one sphere visit for the memory model (hw/memory_timing.h): per item
+// Memory-order log of one sphere visit for the memory model (timing/memory_timing.h): per item
 // a triangle's exit stage (0..3), or kLogNode for a node fetched and box-tested.
 constexpr std::uint8_t kLogNode = 0xFF;
 
@@ -42,7 +42,7 @@ inline std::uint8_t* log_leaf(std::vector<std::uint8_t>* log, std::uint32_t coun
 // before limit() (the ray's extent, or the best hit so far), leaf(node) called on each leaf
 // entered; it returns true to stop the walk (a shadow ray's first occluder). `ids`, if
 // given, receives the index of every node tested, in order (the addresses a memory model
-// needs: hw/visit_stream.h).
+// needs: timing/visit_stream.h).
 template <typename T, typename Limit, typename Leaf>
 void walk_bvh(const SceneGeometry<T>& mem, std::uint32_t s, const Ray<T>& ray, WorkCounts& w,
               std::vector<std::uint8_t>* log, Limit&& limit, Leaf&& leaf, std::vector<std::uint32_t>* ids = nullptr) {

@@ -9,7 +9,7 @@
 //  - a leaf's box is the world bounds of its sphere's triangles, which for flat, axis-aligned
 //    parts (a room's walls and floor, split by --subdivide) is far tighter than the sphere
 //    that bounds them: rays that pass such a part's sphere but not the part never reach it;
-//  - its test (13 cycles, hw/cycle_schedule.cpp) is cheaper than the sphere test the model
+//  - its test (13 cycles, arch/cycle_schedule.cpp) is cheaper than the sphere test the model
 //    runs (14), and the reciprocal direction it needs is computed once per ray by the GPP
 //    and sent with the ray, not once per unit;
 //  - the refit is a union of boxes per interior node; bounding two spheres by a sphere is

@@ -3,7 +3,7 @@
 #include "balance/policy.h"
 #include "balance/spheres.h"
 #include "balance/subdivide.h"
-#include "hw/analytic.h"
+#include "timing/analytic.h"
 #include "ref/reference.h"
 #include "scene/generate.h"
 #include "scene/load.h"

@@ -3,7 +3,7 @@
 // target loads it. Beside each input, NAME.expect holds a piece of the error message it
 // must now produce (or "ok": it must load and render).
 #include "fuzz_scene.h"
-#include "hw/arch.h"
+#include "arch/arch.h"
 #include "scene/aff.h"
 #include "scene/error.h"
 #include "scene/load.h"

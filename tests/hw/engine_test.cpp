@@ -1,7 +1,7 @@
 // The timed model against the functional reference: same images, same work, every ray
 // retired once, at both timing levels and under contention.
 #include "harness.h"
-#include "hw/unit_cycles.h"
+#include "timing/unit_cycles.h"
 #include "ref/camera.h"
 
 #include <catch2/catch.hpp>

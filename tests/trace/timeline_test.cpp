@@ -1,7 +1,7 @@
 // The transaction timeline on hand-made slices: valid JSON in Chrome's trace-event format,
 // times in microseconds to the picosecond, clipped to the window, runs of sphere-test-only
 // visits joined, filtered tracks absent.
-#include "hw/timeline.h"
+#include "trace/timeline.h"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>

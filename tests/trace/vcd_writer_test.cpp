@@ -1,7 +1,7 @@
 // The waveform writer on hand-made changes: the exact VCD text for out-of-order reports,
 // counters, windows and filters; a bounded buffer that writes the same file as an unbounded
 // one; the FST it writes read back through GTKWave's own reader (fstapi).
-#include "hw/vcd_writer.h"
+#include "trace/vcd_writer.h"
 
 #include "fstapi.h"
 

@@ -1,0 +1,261 @@
+#include "arch/arch.h"
+
+#include "scene/json_in.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+
+namespace oprt {
+
+const char* to_string(Level l) { return l == Level::at ? "at" : l == Level::lt ? "lt" : "analytic"; }
+const char* to_string(BusModel b) { return b == BusModel::ideal ? "ideal" : "shared"; }
+const char* to_string(LtArbitration b) {
+  return b == LtArbitration::sync ? "sync" : b == LtArbitration::calendar ? "calendar" : "busy_until";
+}
+const char* to_string(MemoryModel m) { return m == MemoryModel::ideal ? "ideal" : "latency"; }
+const char* to_string(CacheReplacement r) {
+  return r == CacheReplacement::lru ? "lru" : r == CacheReplacement::fifo ? "fifo" : "random";
+}
+const char* to_string(DramPath p) { return p == DramPath::channel ? "channel" : "bus"; }
+const char* to_string(IuModel m) { return m == IuModel::serial ? "serial" : "pipelined"; }
+
+double parse_time_ns(const std::string& text, const std::string& what) {
+  const char* s = text.c_str();
+  char* end = nullptr;
+  const double v = std::strtod(s, &end);
+  if (end == s || !std::isfinite(v) || v <= 0) throw InputError(what, text, "expected a positive time such as \"10 ns\" or \"1us\"");
+  std::string unit(end);
+  unit.erase(0, unit.find_first_not_of(' '));
+  double scale;
+  if (unit == "ps") scale = 1e-3;
+  else if (unit == "ns") scale = 1;
+  else if (unit == "us") scale = 1e3;
+  else if (unit == "ms") scale = 1e6;
+  else if (unit == "s") scale = 1e9;
+  else throw InputError(what, text, "unknown time unit \"" + unit + "\" (expected ps, ns, us, ms or s)");
+  return v * scale;
+}
+
+namespace {
+template <typename E>
+E choose(const JsonIn& j, std::initializer_list<std::pair<const char*, E>> options) {
+  const std::string v = j.string();
+  std::string list;
+  for (const auto& [name, e] : options) {
+    if (v == name) return e;
+    list += std::string(list.empty() ? "" : ", ") + name;
+  }
+  j.fail("unknown value \"" + v + "\" (expected one of: " + list + ")");
+}
+std::string one_of(const JsonIn& j, std::initializer_list<const char*> options) {
+  const std::string v = j.string();
+  std::string list;
+  for (const char* o : options) {
+    if (v == o) return v;
+    list += std::string(list.empty() ? "" : ", ") + o;
+  }
+  j.fail("unknown value \"" + v + "\" (expected one of: " + list + ")");
+}
+int cycles(const JsonIn& j) { return static_cast<int>(j.integer(0, 1000000)); }
+
+// "transform" and "triangle" (one cost per exit stage, in the kernel's stage order).
+void read_kernel_costs(const JsonIn& j, Kernel k, KernelCosts& c) {
+  if (auto v = j.find("transform")) c.transform = cycles(*v);
+  if (auto v = j.find("triangle")) {
+    auto items = v->items();
+    const char* const* names = stage_names(k);
+    if (items.size() != kTriStages)
+      v->fail("expected " + std::to_string(kTriStages) + " cycle counts (exit stages " + names[0] + ", " + names[1] +
+              ", " + names[2] + ", " + names[3] + "), found " + std::to_string(items.size()));
+    for (int s = 0; s < kTriStages; ++s) c.tri_stage[s] = cycles(items[s]);
+  }
+}
+
+nlohmann::json stage_costs_json(const KernelCosts& c) {
+  return {c.tri_stage[0], c.tri_stage[1], c.tri_stage[2], c.tri_stage[3]};
+}
+
+void read_iu(const JsonIn& j, IuConfig& iu) {
+  j.only_keys({"model", "rays_in_flight", "queue_depth", "fp_latency", "sphere", "transform", "triangle"});
+  if (auto v = j.find("model"))
+    iu.model = choose<IuModel>(*v, {{"serial", IuModel::serial}, {"pipelined", IuModel::pipelined}});
+  iu.rays_in_flight = static_cast<int>(j.integer_or("rays_in_flight", iu.rays_in_flight, 1, 4096));
+  iu.queue_depth = static_cast<int>(j.integer_or("queue_depth", iu.queue_depth, 0, 1 << 20));
+  if (auto l = j.find("fp_latency")) {
+    l->only_keys({"add", "multiply"});
+    iu.add_latency = static_cast<int>(l->integer_or("add", iu.add_latency, 1, 64));
+    iu.multiply_latency = static_cast<int>(l->integer_or("multiply", iu.multiply_latency, 1, 64));
+  }
+  for (auto [key, unit] : {std::pair{"sphere", &iu.sphere}, {"transform", &iu.transform}, {"triangle", &iu.triangle}}) {
+    if (auto u = j.find(key)) {
+      u->only_keys({"adders", "multipliers"});
+      unit->adders = static_cast<int>(u->integer_or("adders", unit->adders, 0, 1024));
+      unit->multipliers = static_cast<int>(u->integer_or("multipliers", unit->multipliers, 0, 1024));
+    }
+  }
+}
+
+nlohmann::json iu_json(const IuConfig& iu) {
+  const auto unit = [](const IuConfig::Unit& u) { return nlohmann::json{{"adders", u.adders}, {"multipliers", u.multipliers}}; };
+  return {{"model", to_string(iu.model)},
+          {"rays_in_flight", iu.rays_in_flight},
+          {"queue_depth", iu.queue_depth},
+          {"fp_latency", {{"add", iu.add_latency}, {"multiply", iu.multiply_latency}}},
+          {"sphere", unit(iu.sphere)},
+          {"transform", unit(iu.transform)},
+          {"triangle", unit(iu.triangle)}};
+}
+}  // namespace
+
+void check_sram(const Arch& a, const std::string& file, const std::string& place) {
+  const std::uint64_t set = std::uint64_t(a.memory.cache.line_bytes) * a.memory.cache.ways;
+  if (a.memory.sram_bytes != 0 && a.memory.sram_bytes < set)
+    throw InputError(file, place,
+                     "an object memory smaller than one cache set (line_bytes x ways = " + std::to_string(set) +
+                         " bytes) cannot be a cache");
+}
+
+Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
+  const JsonIn root(doc, file);
+  root.only_keys({"format", "comment", "clock_mhz", "ius", "costs", "ray_fifo_depth", "bus", "memory", "gpp",
+                  "level", "quantum", "balance", "subdivide", "split_rule", "split", "accel", "top", "kernel", "precision",
+                  "sync_every_ray", "iu"});
+  const std::string format = root.at("format").string();
+  if (format != "oprt-arch/1") root.at("format").fail("unsupported format \"" + format + "\" (expected oprt-arch/1)");
+  Arch a;
+  a.source = file;
+  a.clock_mhz = root.number_or("clock_mhz", a.clock_mhz, 1e-3, 1e6);
+  a.ius = static_cast<int>(root.integer_or("ius", a.ius, 1, 65536));
+  if (auto c = root.find("costs")) {
+    c->only_keys({"sphere", "transform", "triangle", "watertight", "box", "box_setup", "node"});
+    if (auto v = c->find("sphere")) a.costs.sphere = cycles(*v);
+    if (auto v = c->find("node")) a.costs.node = cycles(*v);
+    if (auto v = c->find("box")) a.costs.box = cycles(*v);
+    if (auto v = c->find("box_setup")) a.costs.box_setup = cycles(*v);
+    read_kernel_costs(*c, Kernel::moller, a.costs.moller);
+    if (auto w = c->find("watertight")) {
+      w->only_keys({"transform", "triangle"});
+      read_kernel_costs(*w, Kernel::watertight, a.costs.watertight);
+    }
+  }
+  a.fifo_depth = static_cast<int>(root.integer_or("ray_fifo_depth", a.fifo_depth, 0, 1 << 24));
+  if (auto b = root.find("bus")) {
+    b->only_keys({"model", "bytes_per_cycle", "arbitration_cycles", "lt_arbitration"});
+    a.bus.model = choose<BusModel>(b->at("model"), {{"ideal", BusModel::ideal}, {"shared", BusModel::shared}});
+    a.bus.bytes_per_cycle = static_cast<int>(b->integer_or("bytes_per_cycle", a.bus.bytes_per_cycle, 1, 1 << 20));
+    a.bus.arbitration_cycles = static_cast<int>(b->integer_or("arbitration_cycles", a.bus.arbitration_cycles, 0, 1 << 20));
+    if (auto v = b->find("lt_arbitration"))
+      a.bus.lt_arbitration = choose<LtArbitration>(
+          *v, {{"sync", LtArbitration::sync}, {"calendar", LtArbitration::calendar}, {"busy_until", LtArbitration::busy_until}});
+  }
+  if (auto m = root.find("memory")) {
+    m->only_keys({"model", "latency_cycles", "bytes_per_cycle", "sram_bytes", "cache", "dram"});
+    if (auto v = m->find("model"))
+      a.memory.model = choose<MemoryModel>(*v, {{"ideal", MemoryModel::ideal}, {"latency", MemoryModel::latency}});
+    a.memory.latency_cycles = static_cast<int>(m->integer_or("latency_cycles", a.memory.latency_cycles, 0, 1 << 20));
+    a.memory.bytes_per_cycle = static_cast<int>(m->integer_or("bytes_per_cycle", a.memory.bytes_per_cycle, 1, 1 << 20));
+    a.memory.sram_bytes = static_cast<std::uint64_t>(m->integer_or("sram_bytes", 0, 0, 1LL << 40));
+    if (auto c = m->find("cache")) {
+      c->only_keys({"line_bytes", "ways", "replacement", "misses_outstanding"});
+      if (auto v = c->find("line_bytes")) {
+        const auto n = v->integer(16, 1 << 16);
+        if (n & (n - 1)) v->fail("expected a power of two");
+        a.memory.cache.line_bytes = static_cast<int>(n);
+      }
+      a.memory.cache.ways = static_cast<int>(c->integer_or("ways", a.memory.cache.ways, 1, 1024));
+      if (auto v = c->find("replacement"))
+        a.memory.cache.replacement = choose<CacheReplacement>(
+            *v, {{"lru", CacheReplacement::lru}, {"fifo", CacheReplacement::fifo}, {"random", CacheReplacement::random}});
+      a.memory.cache.misses_outstanding =
+          static_cast<int>(c->integer_or("misses_outstanding", a.memory.cache.misses_outstanding, 1, 1024));
+    }
+    if (auto d = m->find("dram")) {
+      d->only_keys({"latency_cycles", "bytes_per_cycle", "units_per_channel", "path"});
+      a.memory.dram.latency_cycles = static_cast<int>(d->integer_or("latency_cycles", a.memory.dram.latency_cycles, 0, 1 << 20));
+      a.memory.dram.bytes_per_cycle =
+          static_cast<int>(d->integer_or("bytes_per_cycle", a.memory.dram.bytes_per_cycle, 1, 1 << 20));
+      a.memory.dram.units_per_channel =
+          static_cast<int>(d->integer_or("units_per_channel", a.memory.dram.units_per_channel, 1, 65536));
+      if (auto v = d->find("path"))
+        a.memory.dram.path = choose<DramPath>(*v, {{"channel", DramPath::channel}, {"bus", DramPath::bus}});
+    }
+    check_sram(a, file, "/memory/sram_bytes");
+  }
+  if (auto g = root.find("gpp")) {
+    g->only_keys({"cycles_per_ray", "cycles_per_hit", "cycles_per_node"});
+    a.gpp.cycles_per_ray = static_cast<int>(g->integer_or("cycles_per_ray", 0, 0, 1 << 20));
+    a.gpp.cycles_per_hit = static_cast<int>(g->integer_or("cycles_per_hit", 0, 0, 1 << 20));
+    a.gpp.cycles_per_node = static_cast<int>(g->integer_or("cycles_per_node", a.gpp.cycles_per_node, 0, 1 << 20));
+  }
+  if (auto v = root.find("level"))
+    a.level = choose<Level>(*v, {{"at", Level::at}, {"lt", Level::lt}, {"analytic", Level::analytic}});
+  if (auto v = root.find("quantum")) a.quantum_ns = parse_time_ns(v->string(), file + ": /quantum");
+  if (auto v = root.find("balance")) a.balance = one_of(*v, {"paper", "round_robin", "sa_n", "feedback", "view"});
+  a.subdivide = static_cast<int>(root.integer_or("subdivide", a.subdivide, 1, 4096));
+  if (auto v = root.find("split_rule")) a.split_rule = one_of(*v, {"balanced", "median"});
+  if (auto v = root.find("split")) a.split = one_of(*v, {"count", "extent"});
+  if (auto v = root.find("accel")) a.accel = one_of(*v, {"brute", "bvh"});
+  if (auto v = root.find("top")) a.top = one_of(*v, {"flat", "bvh"});
+  if (auto v = root.find("kernel")) a.kernel = *kernel_named(one_of(*v, {"moller", "watertight"}));
+  if (auto v = root.find("precision")) a.precision = one_of(*v, {"float", "double"});
+  a.sync_every_ray = root.boolean_or("sync_every_ray", a.sync_every_ray);
+  if (auto v = root.find("iu")) read_iu(*v, a.iu);
+  return a;
+}
+
+void check_arch(const Arch& a) {
+  if (a.iu.model == IuModel::pipelined && a.accel == "bvh")
+    throw InputError(a.source, "iu.model pipelined with accel bvh",
+                     "the pipelined IU models brute force inside spheres only (a BVH walk needs a box unit, which is "
+                     "not modelled): use --iu serial with --accel bvh");
+  if (a.iu.model == IuModel::pipelined && a.top_tree())
+    throw InputError(a.source, "iu.model pipelined with top bvh",
+                     "the pipelined IU's sphere unit tests a flat list (a tree over the spheres needs a node unit, "
+                     "which is not modelled): use --iu serial with --top bvh");
+  if (a.iu.model == IuModel::pipelined && a.memory.sram_bytes != 0)
+    throw InputError(a.source, "iu.model pipelined with memory.sram_bytes",
+                     "the pipelined IU's triangle unit reads an object memory that holds its spheres (a cache's "
+                     "misses are not modelled in the pipeline): use --iu serial with --sram");
+}
+
+Arch load_arch(const std::string& path) { return arch_from_json(JsonIn::parse_file(path), path); }
+
+nlohmann::json to_json(const Arch& a) {
+  return {{"source", a.source},
+          {"clock_mhz", a.clock_mhz},
+          {"ius", a.ius},
+          {"costs", {{"sphere", a.costs.sphere}, {"transform", a.costs.moller.transform},
+                     {"triangle", stage_costs_json(a.costs.moller)},
+                     {"watertight", {{"transform", a.costs.watertight.transform},
+                                     {"triangle", stage_costs_json(a.costs.watertight)}}},
+                     {"box", a.costs.box}, {"box_setup", a.costs.box_setup}, {"node", a.costs.node}}},
+          {"ray_fifo_depth", a.fifo_depth},
+          {"bus", {{"model", to_string(a.bus.model)}, {"bytes_per_cycle", a.bus.bytes_per_cycle},
+                   {"arbitration_cycles", a.bus.arbitration_cycles}, {"lt_arbitration", to_string(a.bus.lt_arbitration)}}},
+          {"memory", {{"model", to_string(a.memory.model)}, {"latency_cycles", a.memory.latency_cycles},
+                      {"bytes_per_cycle", a.memory.bytes_per_cycle}, {"sram_bytes", a.memory.sram_bytes},
+                      {"cache", {{"line_bytes", a.memory.cache.line_bytes}, {"ways", a.memory.cache.ways},
+                                 {"replacement", to_string(a.memory.cache.replacement)},
+                                 {"misses_outstanding", a.memory.cache.misses_outstanding}}},
+                      {"dram", {{"latency_cycles", a.memory.dram.latency_cycles},
+                                {"bytes_per_cycle", a.memory.dram.bytes_per_cycle},
+                                {"units_per_channel", a.memory.dram.units_per_channel},
+                                {"path", to_string(a.memory.dram.path)}}}}},
+          {"gpp", {{"cycles_per_ray", a.gpp.cycles_per_ray}, {"cycles_per_hit", a.gpp.cycles_per_hit},
+                   {"cycles_per_node", a.gpp.cycles_per_node}}},
+          {"level", to_string(a.level)},
+          {"quantum_ns", a.quantum_ns},
+          {"balance", a.balance},
+          {"subdivide", a.subdivide},
+          {"split_rule", a.split_rule},
+          {"split", a.split},
+          {"accel", a.accel},
+          {"top", a.top},
+          {"kernel", to_string(a.kernel)},
+          {"precision", a.precision},
+          {"sync_every_ray", a.sync_every_ray},
+          {"iu", iu_json(a.iu)}};
+}
+
+}  // namespace oprt

@@ -1,0 +1,58 @@
+#include "timing/cache.h"
+
+#include <algorithm>
+
+namespace oprt::hw {
+
+Cache::Cache(std::uint64_t capacity, std::uint32_t line_bytes, std::uint32_t ways, CacheReplacement r, std::uint64_t seed)
+    : line_bytes_(line_bytes), ways_(ways), replacement_(r), rng_(seed * 0x9E3779B97F4A7C15ull + 1) {
+  sets_ = std::max<std::uint64_t>(1, capacity / (std::uint64_t{line_bytes} * ways));
+  way_.assign(sets_ * ways_, Way{});
+}
+
+std::uint64_t* Cache::access(std::uint64_t line, bool& hit) {
+  ++clock_;
+  Way* set = &way_[(line % sets_) * ways_];
+  for (std::uint32_t w = 0; w < ways_; ++w)
+    if (set[w].tag == line) {
+      hit = true;
+      if (replacement_ == CacheReplacement::lru) set[w].stamp = clock_;
+      return &set[w].ready;
+    }
+  hit = false;
+  // The victim: an empty way first (lowest), else by the policy.
+  Way* victim = nullptr;
+  for (std::uint32_t w = 0; w < ways_ && !victim; ++w)
+    if (set[w].tag == ~std::uint64_t{0}) victim = &set[w];
+  if (!victim) {
+    if (replacement_ == CacheReplacement::random) {
+      rng_ ^= rng_ << 13;  // xorshift64: the same sequence on every run
+      rng_ ^= rng_ >> 7;
+      rng_ ^= rng_ << 17;
+      victim = &set[rng_ % ways_];
+    } else {  // lru: least recently used; fifo: filled first
+      victim = set;
+      for (std::uint32_t w = 1; w < ways_; ++w)
+        if (set[w].stamp < victim->stamp) victim = &set[w];
+    }
+  }
+  victim->tag = line;
+  victim->stamp = clock_;
+  victim->ready = 0;
+  return &victim->ready;
+}
+
+void Cache::invalidate(std::uint64_t first, std::uint64_t end) {
+  for (Way& w : way_)
+    if (w.tag >= first && w.tag < end) w.tag = ~std::uint64_t{0};
+}
+
+std::uint64_t MissWindow::slot(std::uint64_t t) {
+  while (!arrivals_.empty() && arrivals_.front() <= t) arrivals_.pop_front();
+  if (arrivals_.size() < limit_) return t;
+  const std::uint64_t free = arrivals_.front();
+  arrivals_.pop_front();
+  return std::max(t, free);
+}
+
+}  // namespace oprt::hw

@@ -1,0 +1,305 @@
+#include "timing/functional_frame.h"
+
+#include "ref/parallel.h"
+#include "ref/stop.h"
+
+#include <stdexcept>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+#include <string>
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+
+namespace oprt::hw {
+
+namespace {
+
+// A record as a chunk keeps it: which unit, and indices local to the chunk.
+struct ChunkRecord {
+  std::uint32_t unit;
+  UnitRayWork work;  // work.ray and work.answer: local to the chunk
+};
+
+// What one chunk of pixels produced, in ray order.
+template <typename T>
+struct Chunk {
+  std::vector<RayRecord<T>> rays;
+  std::vector<std::uint32_t> pixel_rays;  // per pixel: its number of rays
+  std::vector<ChunkRecord> records;
+  typename FunctionalFrame<T>::ChunkDetail* detail = nullptr;  // the frame's, for this chunk
+  std::vector<HitRecord<T>> hits;
+  std::vector<std::uint32_t> records_of;  // per unit: how many records, visits and hits
+  std::vector<std::uint32_t> hits_of;
+
+  // Give back the growth slack while the chunk's thread goes on to its next chunk (it
+  // reuses the memory): the frame's records are held at their size, not up to twice it.
+  void shrink() {
+    rays.shrink_to_fit();
+    records.shrink_to_fit();
+    hits.shrink_to_fit();
+    if (!detail) return;
+    detail->visits.shrink_to_fit();
+    for (auto& r : detail->records) r.shrink_to_fit();
+    for (auto& t : detail->tree_tests) t.shrink_to_fit();
+  }
+};
+
+// Per thread: the work tables every chunk adds to (integer sums, the same in any order).
+struct Totals {
+  std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;
+  std::vector<UnitCycles> units;
+  std::vector<std::array<std::uint64_t, kRayKinds>> node_tests;  // per unit
+};
+
+template <typename T>
+class Recorder {
+ public:
+  Recorder(Chunk<T>& c, Totals& t, const Arch& a, const std::vector<IuRegisters<T>>& regs, bool detail)
+      : c_(c), t_(t), arch_(a), regs_(regs), detail_(detail), node_bytes_(Bytes<T>::node), triangle_bytes_(Bytes<T>::triangle(a.kernel)) {
+    c_.records_of.assign(regs.size(), 0);
+    c_.hits_of.assign(regs.size(), 0);
+  }
+
+  void begin_ray(const Ray<T>& ray, RayKind kind, std::size_t pixel, std::uint32_t slot) {
+    kind_ = static_cast<int>(kind);
+    c_.rays.push_back({ray, kind, static_cast<std::uint32_t>(pixel), slot});
+    if (kind == RayKind::primary) c_.pixel_rays.push_back(0);
+    ++c_.pixel_rays.back();
+  }
+  void begin_unit(std::uint32_t) {
+    sphere_tests_ = visits_ = node_tests_ = 0;
+    spheres_before_ = nodes_before_ = 0;
+    bytes_ = 0;
+    if (detail_) first_visit_ = static_cast<std::uint32_t>(c_.detail->visits.size());
+    entered_ = UnitCycles{};
+  }
+  void visit(const SphereVisit& v) {
+    node_tests_ += v.nodes_before;
+    nodes_before_ += v.nodes_before;
+    if (v.sphere == kNone) return;  // node tests after the last sphere (top_traverse.h)
+    t_.per_sphere[kind_][v.sphere] += v.work;
+    ++sphere_tests_;
+    ++spheres_before_;
+    if (!v.work.transforms) return;
+    UnitCycles vc = visit_cycles<T>(v, arch_);
+    vc.sphere = 0;  // counted for every visit in sphere_tests_
+    entered_ += vc;
+    ++visits_;
+    bytes_ += v.work.tri_tests() * triangle_bytes_ + v.work.box_tests * node_bytes_;
+    if (!detail_) {
+      spheres_before_ = nodes_before_ = 0;
+      return;
+    }
+    VisitWork w;
+    w.entry = v.entry;
+    w.spheres_before = spheres_before_;
+    w.nodes_before = nodes_before_;
+    spheres_before_ = nodes_before_ = 0;
+    w.box = static_cast<std::uint32_t>(vc.box);
+    w.primitive = static_cast<std::uint32_t>(vc.primitive);
+    w.stall = static_cast<std::uint32_t>(vc.stall);
+    w.tri_tests = static_cast<std::uint32_t>(v.work.tri_tests());
+    w.box_tests = static_cast<std::uint32_t>(v.work.box_tests);
+    c_.detail->visits.push_back(w);
+  }
+  void end_unit(std::uint32_t u, const UnitAnswer<T>& a) {
+    UnitCycles& total = t_.units[u];
+    const std::uint64_t spheres = std::uint64_t{sphere_tests_} * arch_.costs.sphere;
+    const std::uint64_t nodes = std::uint64_t{node_tests_} * arch_.costs.node;
+    total.sphere += spheres;
+    total.node += nodes;
+    t_.node_tests[u][kind_] += node_tests_;
+    // Every sphere missed (flat: all tested; with a tree: only its root tested, and missed):
+    // no record (FunctionalFrame::cycles).
+    if (!visits_ && (node_tests_ == 0 || (node_tests_ == 1 && sphere_tests_ == 0))) return;
+    total += entered_;
+    const std::uint64_t cycles = spheres + nodes + entered_.busy() + entered_.stall;
+    if (cycles > kNone || bytes_ > kNone)
+      throw std::runtime_error("one unit's work on one ray exceeds 2^32 cycles or bytes (" + std::to_string(cycles) +
+                               " cycles): split the objects into more spheres (--subdivide) or use --accel bvh");
+    UnitRayWork w;
+    w.ray = static_cast<std::uint32_t>(c_.rays.size() - 1);
+    w.cycles = static_cast<std::uint32_t>(cycles);
+    w.bytes = static_cast<std::uint32_t>(bytes_);
+    if (a.occluded) {
+      w.answer = kOccluded;
+    } else if (a.hit.valid()) {
+      w.answer = static_cast<std::uint32_t>(c_.hits.size());
+      c_.hits.push_back(a.hit);
+      ++c_.hits_of[u];
+    }
+    c_.records.push_back({u, w});
+    ++c_.records_of[u];
+    if (!detail_) return;
+    c_.detail->records[u].push_back({first_visit_, visits_});
+    if (!regs_[u].top.empty()) {
+      c_.detail->tree_tests[u].push_back({sphere_tests_, node_tests_});
+    } else if (node_tests_ != 0 ||  // flat: FunctionalFrame::sphere_tests_of derives them
+               sphere_tests_ != (a.occluded ? c_.detail->visits.back().entry + 1 : regs_[u].size())) {
+      throw std::logic_error("functional trace: a flat unit's sphere tests are not what its answer implies");
+    }
+  }
+  void end_ray() {}
+
+ private:
+  Chunk<T>& c_;
+  Totals& t_;
+  const Arch& arch_;
+  const std::vector<IuRegisters<T>>& regs_;
+  const bool detail_;
+  const std::uint32_t node_bytes_, triangle_bytes_;
+  int kind_ = 0;
+  std::uint32_t sphere_tests_ = 0, visits_ = 0, first_visit_ = 0, node_tests_ = 0;
+  std::uint32_t spheres_before_ = 0, nodes_before_ = 0;  // tests since the last entered sphere
+  std::uint64_t bytes_ = 0;
+  UnitCycles entered_;  // the visits that entered a sphere
+};
+
+}  // namespace
+
+template <typename T>
+void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const std::vector<IuRegisters<T>>& units,
+                      const CameraRays& camera, const Shader<T>& shader, const Arch& arch, int width, int height,
+                      bool detail) {
+  const std::size_t pixels = static_cast<std::size_t>(width) * height;
+  const std::size_t spheres = g.sphere_count();
+  const std::size_t n_units = units.size();
+  out.image = FrameImage(width, height);
+  out.detailed = detail;
+  out.sphere_cost = arch.costs.sphere;
+  out.node_cost = arch.costs.node;
+  out.unit_entries.clear();
+  out.unit_top.clear();
+  for (const IuRegisters<T>& r : units) {
+    out.unit_entries.push_back(static_cast<std::uint32_t>(r.size()));
+    out.unit_top.push_back(r.top.empty() ? 0 : 1);
+  }
+
+  const FrameTraceInputs<T> in{g, units, camera, shader, arch.memory.model == MemoryModel::latency};
+  std::vector<Chunk<T>> chunks(chunk_count(pixels, kPixelsPerChunk));
+  out.detail.resize(detail ? chunks.size() : 0);
+  for (std::size_t c = 0; c < out.detail.size(); ++c) {
+    auto& d = out.detail[c];
+    d.visits.clear();
+    d.records.resize(n_units);
+    d.tree_tests.resize(n_units);
+    for (auto& r : d.records) r.clear();
+    for (auto& t : d.tree_tests) t.clear();
+    chunks[c].detail = &d;
+  }
+  struct Local {
+    Totals totals;
+    PixelScratch<T> scratch;
+  };
+  tbb::enumerable_thread_specific<Local> locals([&] {
+    Local l;
+    for (auto& k : l.totals.per_sphere) k.assign(spheres, WorkCounts{});
+    l.totals.units.assign(n_units, UnitCycles{});
+    l.totals.node_tests.assign(n_units, {});
+    return l;
+  });
+  parallel_chunks(pixels, kPixelsPerChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    throw_if_stopped();
+    Local& l = locals.local();
+    Recorder<T> rec(chunks[c], l.totals, arch, units, detail);
+    for (std::size_t p = begin; p < end; ++p)
+      trace_pixel(in, static_cast<int>(p % width), static_cast<int>(p / width), out.image, rec, l.scratch);
+    chunks[c].shrink();
+  });
+
+  for (auto& k : out.per_sphere) k.assign(spheres, WorkCounts{});
+  out.unit_cycles.assign(n_units, UnitCycles{});
+  out.unit_node_tests.assign(n_units, {});
+  for (const Local& l : locals) {
+    for (int k = 0; k < kRayKinds; ++k)
+      for (std::size_t s = 0; s < spheres; ++s) out.per_sphere[k][s] += l.totals.per_sphere[k][s];
+    for (std::size_t u = 0; u < n_units; ++u) {
+      out.unit_cycles[u] += l.totals.units[u];
+      for (int k = 0; k < kRayKinds; ++k) out.unit_node_tests[u][k] += l.totals.node_tests[u][k];
+    }
+  }
+
+  // Assemble: rays in pixel order; each unit's records, visits and hits in ray order, with
+  // the chunks' local indices turned into the frame's and the unit's.
+  const std::size_t n_chunks = chunks.size();
+  std::vector<std::size_t> ray_base(n_chunks + 1, 0), pixel_base(n_chunks + 1, 0);
+  // [chunk][unit]: where the chunk's records and hits start in the unit's arrays
+  std::vector<std::uint32_t> rec_base(n_chunks * n_units), hit_base(n_chunks * n_units);
+  out.units.resize(n_units);
+  for (std::size_t u = 0; u < n_units; ++u) {
+    std::uint32_t r = 0, h = 0;
+    for (std::size_t c = 0; c < n_chunks; ++c) {
+      rec_base[c * n_units + u] = r;
+      hit_base[c * n_units + u] = h;
+      r += chunks[c].records_of[u];
+      h += chunks[c].hits_of[u];
+    }
+    out.units[u].work.resize(r);
+    out.units[u].hits.resize(h);
+  }
+  for (std::size_t c = 0; c < n_chunks; ++c) {
+    ray_base[c + 1] = ray_base[c] + chunks[c].rays.size();
+    pixel_base[c + 1] = pixel_base[c] + chunks[c].pixel_rays.size();
+  }
+  out.record_base = rec_base;
+  const std::size_t rays = ray_base[n_chunks];
+  out.rays.resize(rays);
+  out.pixel_rays.resize(pixels + 1);
+  parallel_chunks(n_chunks, 1, [&](std::size_t c, std::size_t, std::size_t) {
+    Chunk<T>& k = chunks[c];
+    // The detail stays where the chunk wrote it (FunctionalFrame::visits_of): no copy.
+    std::copy(k.rays.begin(), k.rays.end(), out.rays.begin() + static_cast<std::ptrdiff_t>(ray_base[c]));
+    auto r = static_cast<std::uint32_t>(ray_base[c]);
+    for (std::size_t p = 0; p < k.pixel_rays.size(); ++p) {
+      out.pixel_rays[pixel_base[c] + p] = r;
+      r += k.pixel_rays[p];
+    }
+    std::vector<std::uint32_t> next_rec(rec_base.begin() + c * n_units, rec_base.begin() + (c + 1) * n_units);
+    std::vector<std::uint32_t> next_hit(hit_base.begin() + c * n_units, hit_base.begin() + (c + 1) * n_units);
+    for (std::size_t j = 0; j < k.records.size(); ++j) {
+      const ChunkRecord& cr = k.records[j];
+      UnitTrace<T>& ut = out.units[cr.unit];
+      UnitRayWork w = cr.work;
+      w.ray += static_cast<std::uint32_t>(ray_base[c]);
+      if (w.answer != kNone && w.answer != kOccluded) {
+        ut.hits[next_hit[cr.unit]] = k.hits[w.answer];
+        w.answer = next_hit[cr.unit]++;
+      }
+      const std::uint32_t i = next_rec[cr.unit]++;
+      ut.work[i] = w;
+    }
+    k = Chunk<T>{};  // its memory back before the next chunk's copy: peak = the frame, not twice it
+  });
+  out.pixel_rays[pixels] = static_cast<std::uint32_t>(rays);
+  // Each unit's index: one bit per ray, and the records before each 64-ray word.
+  parallel_chunks(n_units, 1, [&](std::size_t u, std::size_t, std::size_t) {
+    UnitTrace<T>& ut = out.units[u];
+    const std::size_t words = rays / 64 + 1;
+    ut.has.assign(words, 0);
+    ut.rank.assign(words, 0);
+    for (const UnitRayWork& w : ut.work) ut.has[w.ray >> 6] |= std::uint64_t{1} << (w.ray & 63);
+    std::uint32_t before = 0;
+    for (std::size_t i = 0; i < words; ++i) {
+      ut.rank[i] = before;
+      before += static_cast<std::uint32_t>(__builtin_popcountll(ut.has[i]));
+    }
+  });
+#ifdef __GLIBC__
+  // The chunks' working storage, freed above by the pool's threads, stays in their malloc
+  // arenas, counted in the process's memory for the rest of the frame: hand it back. (Once
+  // per frame; on the room's 256x256 frame with --vcd it is 40 MB of peak resident memory.)
+  malloc_trim(0);
+#endif
+}
+
+template struct FunctionalFrame<float>;
+template struct FunctionalFrame<double>;
+template void trace_functional(FunctionalFrame<float>&, const SceneGeometry<float>&,
+                               const std::vector<IuRegisters<float>>&, const CameraRays&, const Shader<float>&,
+                               const Arch&, int, int, bool);
+template void trace_functional(FunctionalFrame<double>&, const SceneGeometry<double>&,
+                               const std::vector<IuRegisters<double>>&, const CameraRays&, const Shader<double>&,
+                               const Arch&, int, int, bool);
+
+}  // namespace oprt::hw
