@@ -24,7 +24,7 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   fs.built_nodes = run.built_nodes;
   fs.image_hash = image.hash();
   fs.frame_time_s = static_cast<double>(run.makespan) * job.arch.cycle_ns() * 1e-9;
-  if (job.arch.iu.model == IuModel::pipelined) fs.pipeline = hw::pipeline_config(job.arch, hw::Bytes<T>::triangle(job.arch.kernel));
+  if (job.arch.iu.model == IuModel::pipelined) fs.pipeline = hw::pipeline_config(job.arch);
   fs.sphere_cycles.assign(geometry.sphere_count(), 0);
   fs.sphere_entries.assign(geometry.sphere_count(), {});
   for (int k = 0; k < kRayKinds; ++k)

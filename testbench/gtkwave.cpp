@@ -37,17 +37,6 @@ void write_gtkwave_save(const std::string& trace_path, const std::string& save_p
     f.close();
     if (!f) throw std::runtime_error("cannot write " + tmp);
   });
-  // A pipelined unit's stages (timing/pipeline_timing.h StageState).
-  const fs::path stage_filter = save.parent_path() / (save.stem().string() + "_stage.txt");
-  const bool pipelined = std::any_of(signals.begin(), signals.end(),
-                                     [](const TraceSignal& t) { return t.name.find(".stage.") != std::string::npos; });
-  if (pipelined)
-    write_atomically(stage_filter.string(), [&](const std::string& tmp) {
-      std::ofstream f(tmp);
-      f << "0 waiting\n1 busy\n2 full\n3 memory\n";
-      f.close();
-      if (!f) throw std::runtime_error("cannot write " + tmp);
-    });
   std::vector<std::string> gpp, bus;
   std::map<int, std::vector<std::string>> unit;  // unit -> its signals
   for (const TraceSignal& sig : signals) {
@@ -62,8 +51,8 @@ void write_gtkwave_save(const std::string& trace_path, const std::string& save_p
   }
   write_atomically(save.string(), [&](const std::string& tmp) {
     std::ofstream g(tmp);
-    g << "[*] oprt trace: GPP, bus, and per intersection unit its state (pipelined: each stage's state, its queues and "
-         "rays in flight), its ray FIFO's occupancy and its cache misses outstanding\n";
+    g << "[*] oprt trace: GPP, bus, and per intersection unit its state (pipelined: whether each of its units issues, the "
+         "operations waiting for it, the rays waiting for memory and the rays in flight), its ray FIFO's occupancy and its cache misses outstanding\n";
     g << "[dumpfile] \"" << fs::absolute(trace_path).string() << "\"\n";
     g << "[savefile] \"" << save.string() << "\"\n[timestart] " << start_ps << "\n[sst_expanded] 1\n";
     // GTKWave's zoom is -log2(time units per pixel): fit the whole trace in the window (GTKWave counts zoom against a
@@ -81,8 +70,6 @@ void write_gtkwave_save(const std::string& trace_path, const std::string& save_p
       g << kGroupBegin << "\n-" << name << "\n";
       for (const auto& s : sigs) {
         if (ends_with(s, ".state[2:0]")) g << "^1 " << filter.string() << "\n" << kDecNamed << "\n" << s << "\n";
-        else if (s.find(".stage.") != std::string::npos && ends_with(s, "[1:0]"))
-          g << "^1 " << stage_filter.string() << "\n" << kDecNamed << "\n" << s << "\n";
         else g << kDec << "\n" << s << "\n";
       }
       g << kGroupEnd << "\n-" << name << "\n";

@@ -126,6 +126,7 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
     const hw::PipelineSchedules p = hw::pipeline_schedules(job.arch);
     nlohmann::json stages = nlohmann::json::object();
     for (int s = 0; s < hw::kPipeStages; ++s) {
+      if (!p.used[s]) continue;
       const FpUnits u = hw::stage_units(job.arch, static_cast<hw::PipeStage>(s), *p.stage[s].graph);
       stages[hw::to_string(static_cast<hw::PipeStage>(s))] = {
           {"ii", p.stage[s].ii}, {"latency", p.stage[s].length()}, {"adders", u.adders}, {"multipliers", u.multipliers}};

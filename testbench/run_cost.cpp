@@ -1,6 +1,6 @@
 #include "run_cost.h"
 
-#include "hw/payloads.h"
+#include "timing/bytes.h"
 #include "timing/pipeline_timing.h"
 #include "tech_default.h"
 
@@ -9,13 +9,16 @@
 namespace oprt {
 
 namespace {
-struct EntryBytes {
-  std::uint64_t ray, transform_job, triangle_job;
+// What a pipelined IU's ray store holds per ray slot: the ray, its local-frame copy, the
+// state of its walk; and each entry of its traversal stack (a node index).
+struct StoreBytes {
+  std::uint64_t ray, local_ray;
 };
 template <typename T>
-EntryBytes entry_bytes() {
-  return {hw::Bytes<T>::ray, hw::Bytes<T>::transform_job, hw::Bytes<T>::triangle_job};
+StoreBytes store_bytes() {
+  return {hw::Bytes<T>::ray, 6 * sizeof(T)};
 }
+constexpr std::uint64_t kStackEntryBytes = 4;
 }  // namespace
 
 RunCost::RunCost(const std::string& tech_file, const Arch& arch, std::size_t units) : arch_(arch) {
@@ -31,25 +34,31 @@ RunCost::RunCost(const std::string& tech_file, const Arch& arch, std::size_t uni
   design_.ray_bytes = ray_bytes(dbl);
   design_.double_precision = dbl;
   if (arch.iu.model == IuModel::pipelined) {
-    // Three units, each with the adders and multipliers its schedule uses; operands move
-    // through pipeline registers, so each operation writes its result once (charged as one
-    // register-file access: an over-estimate for a pipeline latch) and no register file
-    // holds operands. Rays in flight and queue entries are the pipeline_buffers.
+    // Its units, each with the adders and multipliers its schedule uses (the box and node
+    // units apart: area components of their own); operands move through pipeline
+    // registers, so each operation writes its result once (charged as one register-file
+    // access: an over-estimate for a pipeline latch) and no register file holds operands.
+    // The ray store and the traversal stacks are pipeline_buffers and traversal_stacks.
     const hw::PipelineSchedules p = hw::pipeline_schedules(arch);
     IuUnits iu;
     iu.adders = iu.multipliers = 0;
     iu.register_files = 0;
     iu.register_accesses_per_op = 1;
     for (int s = 0; s < hw::kPipeStages; ++s) {
-      const FpUnits u = hw::stage_units(arch, static_cast<hw::PipeStage>(s), *p.stage[s].graph);
-      iu.adders += u.adders;
-      iu.multipliers += u.multipliers;
+      if (!p.used[s]) continue;
+      const auto stage = static_cast<hw::PipeStage>(s);
+      const FpUnits u = hw::stage_units(arch, stage, *p.stage[s].graph);
+      int& adders = stage == hw::PipeStage::box ? iu.box_adders : stage == hw::PipeStage::node ? iu.node_adders : iu.adders;
+      int& multipliers =
+          stage == hw::PipeStage::box ? iu.box_multipliers : stage == hw::PipeStage::node ? iu.node_multipliers : iu.multipliers;
+      adders += u.adders;
+      multipliers += u.multipliers;
     }
     design_.iu = iu;
     ops_ = op_counts(arch.kernel, [&p](const OpGraph& g) {
-      for (const Schedule& s : p.stage)
-        if (s.graph == &g) return s;
-      return list_schedule(g);  // the BVH's graphs: not run by a pipelined unit
+      for (int s = 0; s < hw::kPipeStages; ++s)
+        if (p.used[s] && p.stage[s].graph == &g) return p.stage[s];
+      return list_schedule(g);  // the box set-up: part of the transform unit's graph
     });
   } else {
     ops_ = op_counts(arch.kernel);
@@ -57,8 +66,7 @@ RunCost::RunCost(const std::string& tech_file, const Arch& arch, std::size_t uni
 }
 
 Cost RunCost::frame(const FrameStats& fs) {
-  const EntryBytes b = design_.double_precision ? entry_bytes<double>() : entry_bytes<float>();
-  const auto depth = static_cast<std::uint64_t>(arch_.iu.queue_depth);
+  const StoreBytes b = design_.double_precision ? store_bytes<double>() : store_bytes<float>();
   FrameActivity act;
   act.units.resize(fs.units.size());
   act.bus_bytes = fs.bus_bytes;
@@ -66,7 +74,10 @@ Cost RunCost::frame(const FrameStats& fs) {
   for (std::size_t u = 0; u < fs.units.size() && u < design_.units.size(); ++u) {
     const UnitFrameStats& s = fs.units[u];
     UnitSize& z = design_.units[u];
-    z.object_memory_bytes = std::max(z.object_memory_bytes, s.memory_capacity_bytes);
+    // A memory that is a cache is memory.sram_bytes, whatever its spheres need.
+    const std::uint64_t memory = s.cache ? std::min<std::uint64_t>(arch_.memory.sram_bytes, s.memory_capacity_bytes)
+                                         : s.memory_capacity_bytes;
+    z.object_memory_bytes = std::max(z.object_memory_bytes, memory);
     z.config_bytes = std::max(z.config_bytes, s.config_bytes);
     const std::uint64_t fifo_entries = arch_.fifo_depth > 0 ? static_cast<std::uint64_t>(arch_.fifo_depth) : s.fifo_peak;
     z.fifo_bytes = std::max(z.fifo_bytes, fifo_entries * b.ray);
@@ -78,14 +89,26 @@ Cost RunCost::frame(const FrameStats& fs) {
     a.fifo_pushes = s.fifo_pushes;
     a.fifo_pops = s.fifo_pops;
     a.config_write_bytes = s.config_bytes;
+    if (s.cache) {  // lines from DRAM, written into it; its miss registers: the line's address and data each
+      const auto& c = arch_.memory.cache;
+      a.dram_bytes = s.memory.dram_bytes;
+      a.memory_write_bytes += s.memory.dram_bytes;
+      z.miss_register_bytes =
+          std::max<std::uint64_t>(z.miss_register_bytes, static_cast<std::uint64_t>(c.misses_outstanding) * (8 + c.line_bytes));
+      a.miss_register_access_bytes = 2 * s.memory.misses * static_cast<std::uint64_t>(c.line_bytes);
+    }
     if (s.pipeline) {
       const hw::PipelineStats& p = *s.pipeline;
-      const std::uint64_t queues = depth ? depth * (b.transform_job + b.triangle_job)
-                                         : p.peak_queue[0] * b.transform_job + p.peak_queue[1] * b.triangle_job;
-      z.buffer_bytes = std::max(z.buffer_bytes, static_cast<std::uint64_t>(arch_.iu.rays_in_flight) * b.ray + queues);
-      // Each ray written into the store of rays in flight; per job the ray read by the
-      // transform unit, and one push and one pop in each queue.
-      a.buffer_access_bytes = s.rays * b.ray + p.jobs * (b.ray + 2 * b.transform_job + 2 * b.triangle_job);
+      const auto slots = static_cast<std::uint64_t>(arch_.iu.rays_in_flight);
+      z.buffer_bytes = std::max(z.buffer_bytes, slots * (b.ray + b.local_ray));
+      if (arch_.accel == "bvh")
+        z.stack_bytes = std::max(z.stack_bytes, slots * static_cast<std::uint64_t>(arch_.iu.stack_depth) * kStackEntryBytes);
+      // Each ray written into the store; per job the ray read and its local copy written
+      // and read. Each push written and read back; a spill or a fill one entry in object memory.
+      a.buffer_access_bytes = s.rays * b.ray + p.jobs * (b.ray + 2 * b.local_ray);
+      a.stack_access_bytes = 2 * p.stack_pushes * kStackEntryBytes;
+      a.memory_write_bytes += p.stack_spills * kStackEntryBytes;
+      a.memory_read_bytes += p.stack_fills * kStackEntryBytes;
     }
   }
   return frame_energy_j(tech_, design_, ops_, act);

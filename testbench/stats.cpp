@@ -35,31 +35,30 @@ nlohmann::json work_json(const WorkCounts& w) {
           {"box_tests", w.box_tests},
           {"node_tests", w.node_tests}};
 }
-// A pipelined unit's stages: per stage busy (issuing), stall (frozen by a full output
-// queue; the sphere unit also without a free ray slot; the triangle unit waiting for
-// object memory), starved (its input queue empty while the unit holds rays) and idle (the
-// unit holds no ray); they add up to the makespan.
+// A pipelined unit: per unit in use its operations, busy (issuing: ops x II), starved (the IU
+// holds rays but none has an operation for it) and idle (the IU holds no ray), which add up
+// to the makespan; then the rays' waits (for a free slot, for object memory, for the bus)
+// and the traversal stack.
 nlohmann::json stages_json(const hw::PipelineStats& p, const hw::PipelineConfig& c, std::uint64_t makespan) {
   nlohmann::json stages = nlohmann::json::object();
   const std::uint64_t idle = makespan > p.occupied ? makespan - p.occupied : 0;
   for (int s = 0; s < hw::kPipeStages; ++s) {
+    if (!c.stage[s].used) continue;
     const hw::StageCycles& st = p.stage[s];
-    const std::uint64_t used = st.busy + st.full + st.memory;
-    nlohmann::json j = {{"busy", st.busy},
-                        {"stall_queue_full", st.full},
-                        {"stall_queue_empty", p.occupied > used ? p.occupied - used : 0},
-                        {"idle", idle},
-                        {"ii", c.stage[s].ii},
-                        {"latency", c.stage[s].latency}};
-    if (s == static_cast<int>(hw::PipeStage::triangle)) j["stall_memory"] = st.memory;
-    stages[hw::to_string(static_cast<hw::PipeStage>(s))] = j;
+    stages[hw::to_string(static_cast<hw::PipeStage>(s))] = {{"ops", st.ops},
+                                                            {"busy", st.busy},
+                                                            {"starved", p.occupied > st.busy ? p.occupied - st.busy : 0},
+                                                            {"idle", idle},
+                                                            {"ii", c.stage[s].ii},
+                                                            {"latency", c.stage[s].latency}};
   }
   return {{"stages", stages},
           {"occupied_cycles", p.occupied},
+          {"slot_wait_cycles", p.slot_wait},
+          {"memory_wait_cycles", p.memory_wait},
           {"answer_wait_cycles", p.answer_wait},
           {"jobs", p.jobs},
-          {"triangle_tests", p.triangles},
-          {"queue_peak", {{"transform", p.peak_queue[0]}, {"triangle", p.peak_queue[1]}}},
+          {"stack", {{"pushes", p.stack_pushes}, {"spills", p.stack_spills}, {"fills", p.stack_fills}}},
           {"rays_in_flight_peak", p.peak_in_flight}};
 }
 }  // namespace

@@ -189,34 +189,30 @@ class Testbench : public sc_module {
     run.refit_nodes = g.refit_nodes;
     run.refit_cycles = g.refit_cycles;
     run.built_nodes = g.built_nodes;
+    const auto& f = engine_->functional();
     for (std::size_t u = 0; u < engine_->units(); ++u) {
       const hw::UnitStats& s = engine_->unit(u).stats();
-      hw::UnitRun r;
-      r.cycles = engine_->functional().unit_cycles[u];
       const hw::ObjectMemory& m = engine_->memory(u);
-      r.cache = m.is_cache();
-      r.memory = m.cache_counts();
-      // Through a cache the memory stall is the cache's (the trace's is on-chip memory's).
-      if (r.cache) r.cycles.stall = s.cache_stall;
-      else r.memory.stall = r.cycles.stall;
-      if (s.pipeline) {  // its stages work side by side: each one's issue cycles, and the unit's stalls
-        r.cycles = hw::pipelined_cycles(*s.pipeline);
-        r.memory.stall = s.pipeline->stage[2].memory;
-      } else {
-        if (s.charged != r.cycles.busy() + r.cycles.stall)
-          SC_REPORT_FATAL("testbench", ("unit " + std::to_string(u) + " waited out other cycles than its work").c_str());
-        r.cycles.stall += s.bus_stall;
-      }
-      r.rays = s.rays[0] + s.rays[1];
-      r.memory_bytes = m.bytes_read();
-      for (int k = 0; k < kRayKinds; ++k) r.node_tests[k] = engine_->functional().unit_node_tests[u][k];
-      r.assigned_bytes = hw::assigned_bytes(geometry_, job_.assignment.unit[u]);
-      r.pipeline = s.pipeline;
       hw::RayFifo& fifo = engine_->fifo(u);
-      r.fifo_pushes = fifo.pushes();
-      r.fifo_pops = fifo.pops();
-      r.fifo_peak = fifo.peak_occupancy();
-      if (u < g.unit_memory_load_bytes.size()) r.memory_load_bytes = g.unit_memory_load_bytes[u];
+      hw::UnitTimed t;
+      t.rays = s.rays[0] + s.rays[1];
+      t.bus_stall = s.bus_stall;
+      t.cache = m.is_cache();
+      t.memory = m.cache_counts();
+      t.cache_stall = s.cache_stall;
+      t.pipeline = s.pipeline;
+      t.fifo_pushes = fifo.pushes();
+      t.fifo_pops = fifo.pops();
+      t.fifo_peak = fifo.peak_occupancy();
+      if (u < g.unit_memory_load_bytes.size()) t.memory_load_bytes = g.unit_memory_load_bytes[u];
+      const auto unit = static_cast<std::uint32_t>(u);
+      hw::UnitRun r = hw::unit_run(f, unit, job_.assignment.unit[u], geometry_, job_.arch, t);
+      // What the modules did must be the work the trace holds: anything else is a fault in
+      // the model's plumbing.
+      if (!s.pipeline && s.charged != r.cycles.busy() + r.memory.stall)
+        SC_REPORT_FATAL("testbench", ("unit " + std::to_string(u) + " waited out other cycles than its work").c_str());
+      if (m.bytes_read() != r.memory_bytes)
+        SC_REPORT_FATAL("testbench", ("object memory " + std::to_string(u) + " was read other bytes than the work needs").c_str());
       run.units.push_back(r);
     }
     run.per_sphere = engine_->functional().per_sphere;

@@ -31,16 +31,20 @@ enum class Level { at, lt, analytic };
 // (timing/pipeline_timing.h, docs/cycle-model.md).
 enum class IuModel { serial, pipelined };
 
-// A pipelined IU's parameters. Each unit's adders and multipliers: 0 = as many as its
-// operation graph needs to accept a new operation every cycle (initiation interval 1).
+// A pipelined IU's parameters (timing/pipeline_timing.h). Each unit's adders and
+// multipliers: 0 = as many as its operation graph needs to accept a new operation every
+// cycle (initiation interval 1).
 struct IuConfig {
   IuModel model = IuModel::serial;
   int rays_in_flight = 16;  // rays between the ray FIFO and their answers, per IU
-  int queue_depth = 4;      // entries of each queue between units (sphere -> transform -> triangle); 0 = unbounded
+  // Each ray's traversal stack in the ray store (--accel bvh): entries, and what a spill or
+  // a fill of one entry to object memory costs that ray.
+  int stack_depth = 16;
+  int stack_overflow_cycles = 10;
   int add_latency = 1, multiply_latency = 1;  // cycles, each FP unit itself pipelined
   struct Unit {
     int adders = 0, multipliers = 0;  // 0: enough for II 1
-  } sphere, transform, triangle;
+  } node, sphere, transform, box, triangle;  // node: --top bvh; box: --accel bvh
 };
 
 struct Arch {
@@ -71,7 +75,7 @@ struct Arch {
     struct {
       int latency_cycles = 40;     // from the request to the line's first byte
       int bytes_per_cycle = 16;    // per channel
-      int units_per_channel = 4;   // units 0..k-1 share channel 0, and so on
+      int units_per_channel = 1;   // units 0..k-1 share channel 0, and so on (1: a channel per unit)
       DramPath path = DramPath::channel;
     } dram;
   } memory;

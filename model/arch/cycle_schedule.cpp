@@ -354,4 +354,22 @@ const OpGraph& top_node_graph() {
   return g;
 }
 
+// A pipelined unit that walks a BVH inside the sphere forms the reciprocal direction in its
+// transform unit: the transform's graph followed by the box set-up's, each set-up chain
+// starting from its axis of d'. One graph, modulo scheduled as one.
+const OpGraph& transform_box_setup_graph(Kernel k) {
+  auto build = [](const OpGraph& transform) {
+    OpGraph t = transform;
+    t.name = transform.name + ", then the box set-up";
+    for (Op op : box_setup_graph().ops) {
+      if (op.in.empty()) op.in.push_back(std::string("d'") + op.name.back());  // d*r0x needs d'x
+      t.ops.push_back(std::move(op));
+    }
+    return t;
+  };
+  static const OpGraph moller = build(transform_graph());
+  static const OpGraph watertight = build(transform_watertight_graph());
+  return k == Kernel::watertight ? watertight : moller;
+}
+
 }  // namespace oprt

@@ -13,6 +13,8 @@
 // early-exit unit does). A stage's exit cost is the cycle in which its last check completes.
 #pragma once
 
+#include "geom/kernel.h"
+
 #include <string>
 #include <vector>
 
@@ -81,6 +83,9 @@ const OpGraph& transform_watertight_graph();  // the transform plus the ray's do
 const OpGraph& watertight_graph();       // geom/watertight.h, exit stages uv, w, det, t
 const OpGraph& box_setup_graph();        // --accel bvh: reciprocal direction (geom/bvh.h)
 const OpGraph& box_graph();              // --accel bvh: ray-box test (geom/bvh.h)
-const OpGraph& top_node_graph();         // --top bvh: node of a unit's tree over its spheres (ref/top_tree.h)
+const OpGraph& top_node_graph();
+// A pipelined unit's transform unit with --accel bvh: the kernel's transform, then the box
+// set-up on its result.
+const OpGraph& transform_box_setup_graph(Kernel k);         // --top bvh: node of a unit's tree over its spheres (ref/top_tree.h)
 
 }  // namespace oprt

@@ -39,16 +39,27 @@ OpCounts op_counts(Kernel k, const std::function<Schedule(const OpGraph&)>& sche
   for (int st = 0; st < kTriStages; ++st) c.triangle[st] = ops_until_exit(tri, st);
   c.box_setup = whole(box_setup_graph());
   c.box = whole(box_graph());
+  c.node = whole(top_node_graph());
   return c;
 }
 
-FpOps ops_of(const OpCounts& c, const WorkCounts& w) {
-  FpOps n = c.sphere.times(w.sphere_tests);
-  n += c.transform.times(w.transforms);
-  for (int st = 0; st < kTriStages; ++st) n += c.triangle[st].times(w.tri_stage[st]);
-  n += c.box_setup.times(w.box_setups);
-  n += c.box.times(w.box_tests);
+WorkOps work_ops(const OpCounts& c, const WorkCounts& w) {
+  WorkOps n;
+  n.core = c.sphere.times(w.sphere_tests);
+  n.core += c.transform.times(w.transforms);
+  for (int st = 0; st < kTriStages; ++st) n.core += c.triangle[st].times(w.tri_stage[st]);
+  n.box = c.box_setup.times(w.box_setups);
+  n.box += c.box.times(w.box_tests);
+  n.node = c.node.times(w.node_tests);
   return n;
+}
+
+FpOps ops_of(const OpCounts& c, const WorkCounts& w) {
+  const WorkOps n = work_ops(c, w);
+  FpOps all = n.core;
+  all += n.box;
+  all += n.node;
+  return all;
 }
 
 std::optional<double> Cost::of(const std::string& name) const {
@@ -182,6 +193,25 @@ void charge_fifos(Builder& b, const std::string& name, const SizeCurve& curve, s
   b.put(name, v ? std::optional<double>(*v + registers) : std::nullopt);
 }
 
+// Area of a unit of `adders` adders and `multipliers` multipliers; null if the table lacks either.
+std::optional<double> fp_area(const Tech& t, int adders, int multipliers) {
+  if ((adders && !t.fp_add.area_mm2) || (multipliers && !t.fp_multiply.area_mm2)) return std::nullopt;
+  return adders * t.fp_add.area_mm2.value_or(0) + multipliers * t.fp_multiply.area_mm2.value_or(0);
+}
+
+// Energy of a set of operations (a comparison at `compare`); null if the table lacks a price needed.
+std::optional<double> op_energy(const Tech& t, const FpOps& o, const std::optional<double>& compare) {
+  const std::pair<std::uint64_t, std::optional<double>> parts[] = {
+      {o.add, t.fp_add.energy_pj}, {o.multiply, t.fp_multiply.energy_pj}, {o.compare, compare}, {o.inverse, t.fp_inverse.energy_pj}};
+  double e = 0;
+  for (const auto& [n, price] : parts) {
+    if (!n) continue;
+    if (!price) return std::nullopt;
+    e += static_cast<double>(n) * *price;
+  }
+  return e;
+}
+
 void precision_note(Builder& b, const Design& d) {
   if (d.double_precision) b.note("the table's FP units are 32-bit: double precision is charged as single");
 }
@@ -196,6 +226,8 @@ Cost area_mm2(const Tech& t, const Design& d) {
   b.charge("fp_comparators", n * d.iu.comparators, t.fp_compare.area_mm2, "fp_compare area");
   b.charge("fp_inverters", n * d.iu.inverters, t.fp_inverse.area_mm2, "fp_inverse area");
   b.charge("register_files", n * d.iu.register_files, t.register_file.area_mm2, "register_file area");
+  b.charge("box_units", n, fp_area(t, d.iu.box_adders, d.iu.box_multipliers), "fp_add and fp_multiply area");
+  b.charge("node_units", n, fp_area(t, d.iu.node_adders, d.iu.node_multipliers), "fp_add and fp_multiply area");
   double config = 0;
   for (const UnitSize& u : d.units) config += static_cast<double>(u.config_bytes);
   b.charge("configuration_registers", config, per_byte(t.register_file.area_mm2, t.register_file.bytes),
@@ -204,6 +236,12 @@ Cost area_mm2(const Tech& t, const Design& d) {
   for (const UnitSize& u : d.units) buffers += static_cast<double>(u.buffer_bytes);
   b.charge("pipeline_buffers", buffers, per_byte(t.register_file.area_mm2, t.register_file.bytes),
            "register_file area (a pipelined IU's buffers are charged at its area per byte)");
+  double stacks = 0, miss = 0;
+  for (const UnitSize& u : d.units) stacks += static_cast<double>(u.stack_bytes), miss += static_cast<double>(u.miss_register_bytes);
+  b.charge("traversal_stacks", stacks, per_byte(t.register_file.area_mm2, t.register_file.bytes),
+             "register_file area (the traversal stacks are charged at its area per byte)");
+  b.charge("miss_registers", miss, per_byte(t.register_file.area_mm2, t.register_file.bytes),
+             "register_file area (a cache's miss registers are charged at its area per byte)");
   const std::size_t units = d.units.size();
   charge_by_size(
       b, "object_memories", t.sram.area_mm2, "sram area", "object memories", units,
@@ -220,8 +258,13 @@ Cost area_mm2(const Tech& t, const Design& d) {
 Cost frame_energy_j(const Tech& t, const Design& d, const OpCounts& per_op, const FrameActivity& f) {
   if (f.units.size() != d.units.size()) throw std::invalid_argument("frame_energy_j: one activity per unit of the design");
   Builder b(1e-12);  // the table is in pJ
-  FpOps ops;
-  for (const UnitActivity& u : f.units) ops += ops_of(per_op, u.work);
+  FpOps ops, box, node;
+  for (const UnitActivity& u : f.units) {
+    const WorkOps w = work_ops(per_op, u.work);
+    ops += w.core;
+    box += w.box;
+    node += w.node;
+  }
 
   b.charge("fp_add", static_cast<double>(ops.add), t.fp_add.energy_pj, "fp_add energy");
   b.charge("fp_multiply", static_cast<double>(ops.multiply), t.fp_multiply.energy_pj, "fp_multiply energy");
@@ -234,8 +277,12 @@ Cost frame_energy_j(const Tech& t, const Design& d, const OpCounts& per_op, cons
   }
   b.charge("fp_compare", static_cast<double>(ops.compare), compare, "fp_add energy (comparisons run on the adder)");
   b.charge("fp_inverse", static_cast<double>(ops.inverse), t.fp_inverse.energy_pj, "fp_inverse energy");
-  b.charge("register_file", d.iu.register_accesses_per_op * static_cast<double>(ops.total()), t.register_file.energy_pj,
-           "register_file energy");
+  // The box set-ups and tests, and the node tests: the energy of their operations, whichever
+  // units run them (their own in a pipelined IU, the adder and multiplier of a serial one).
+  b.charge("box_tests", 1.0, op_energy(t, box, compare), "fp_add and fp_multiply energy");
+  b.charge("node_tests", 1.0, op_energy(t, node, compare), "fp_add and fp_multiply energy");
+  b.charge("register_file", d.iu.register_accesses_per_op * static_cast<double>(ops.total() + box.total() + node.total()),
+           t.register_file.energy_pj, "register_file energy");
 
   const std::size_t units = d.units.size();
   const auto sram_access = t.sram.access_bytes.value_or(1);
@@ -257,15 +304,19 @@ Cost frame_energy_j(const Tech& t, const Design& d, const OpCounts& per_op, cons
       [&](std::size_t u) { return static_cast<double>(d.units[u].fifo_bytes); },
       [&](std::size_t u) { return fifo_bytes_moved(u) / sram_access; }, fifo_bytes_moved);
 
-  double config = 0, dram = 0, buffers = 0;
+  double config = 0, dram = 0, buffers = 0, stacks = 0, miss = 0;
   for (const UnitActivity& u : f.units) {
     config += static_cast<double>(u.config_write_bytes);
     dram += static_cast<double>(u.dram_bytes);
     buffers += static_cast<double>(u.buffer_access_bytes);
+    stacks += static_cast<double>(u.stack_access_bytes);
+    miss += static_cast<double>(u.miss_register_access_bytes);
   }
   const auto rf_access = t.register_file.access_bytes.value_or(1);
   b.charge("configuration", config / rf_access, t.register_file.energy_pj, "register_file energy");
   b.charge("pipeline_buffers", buffers / rf_access, t.register_file.energy_pj, "register_file energy");
+  b.charge("traversal_stacks", stacks / rf_access, t.register_file.energy_pj, "register_file energy");
+  b.charge("miss_registers", miss / rf_access, t.register_file.energy_pj, "register_file energy");
 
   // The bus and leakage scale with the area.
   const Cost area = area_mm2(t, d);

@@ -69,7 +69,7 @@ FpOps ops_until_exit(const Schedule& s, int stage);
 
 // Operations per IU operation, by exit stage for a triangle test.
 struct OpCounts {
-  FpOps sphere, transform, triangle[kTriStages], box_setup, box;
+  FpOps sphere, transform, triangle[kTriStages], box_setup, box, node;
 };
 
 // From the graphs the model runs with kernel k (the stable sphere test, geom/sphere.h),
@@ -77,8 +77,13 @@ struct OpCounts {
 // passes its own).
 OpCounts op_counts(Kernel k, const std::function<Schedule(const OpGraph&)>& schedule = list_schedule);
 
-// The operations of a frame's work.
+// The operations of a frame's work: all of them, and split by what runs them: the box
+// set-ups and box tests (--accel bvh), the node tests of a unit's tree (--top bvh), the rest.
 FpOps ops_of(const OpCounts& per_op, const WorkCounts& work);
+struct WorkOps {
+  FpOps core, box, node;
+};
+WorkOps work_ops(const OpCounts& per_op, const WorkCounts& work);
 
 // The arithmetic inside one intersection unit. The default is the paper's serial IU: one
 // adder/subtractor, one multiplier, one register file.
@@ -86,6 +91,9 @@ struct IuUnits {
   int adders = 1, multipliers = 1;
   int comparators = 0;  // 0: comparisons run on an adder
   int inverters = 0;
+  // A pipelined IU's box unit (--accel bvh) and node unit (--top bvh), apart from the
+  // adders and multipliers above (a serial IU runs those tests on its one adder and multiplier).
+  int box_adders = 0, box_multipliers = 0, node_adders = 0, node_multipliers = 0;
   int register_files = 1;
   // Register-file accesses per FP operation: 2 operand reads and a write when every operand
   // comes from the register file (SimTRaX's rule); a pipelined unit that forwards operands
@@ -98,7 +106,9 @@ struct UnitSize {
   std::uint64_t object_memory_bytes = 0;  // what its assignment holds at its peak over the run
   std::uint64_t fifo_bytes = 0;           // ray FIFO capacity (depth x ray bytes; peak occupancy if unbounded)
   std::uint64_t config_bytes = 0;         // configuration registers for its spheres at the peak
-  std::uint64_t buffer_bytes = 0;         // a pipelined IU's queues and rays in flight (registers)
+  std::uint64_t buffer_bytes = 0;         // a pipelined IU's store of rays in flight (registers)
+  std::uint64_t stack_bytes = 0;          // a pipelined IU's traversal stacks, one per ray slot (registers)
+  std::uint64_t miss_register_bytes = 0;  // a cache's miss registers: misses_outstanding x (address + line)
 };
 
 struct Design {
@@ -116,7 +126,9 @@ struct UnitActivity {
   std::uint64_t fifo_pushes = 0, fifo_pops = 0;
   std::uint64_t config_write_bytes = 0;
   std::uint64_t dram_bytes = 0;
-  std::uint64_t buffer_access_bytes = 0;  // a pipelined IU's queue and ray-store reads and writes
+  std::uint64_t buffer_access_bytes = 0;  // a pipelined IU's ray-store reads and writes
+  std::uint64_t stack_access_bytes = 0;   // its traversal stacks' pushes and pops
+  std::uint64_t miss_register_access_bytes = 0;  // a cache's miss registers: each miss's line written and read
 };
 
 struct FrameActivity {

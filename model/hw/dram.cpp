@@ -1,6 +1,6 @@
 #include "hw/dram.h"
 
-#include "hw/payloads.h"
+#include "hw/extensions.h"
 
 namespace oprt::hw {
 
@@ -19,9 +19,13 @@ Dram::Dram(const sc_module_name& name, const Arch& arch, std::size_t units)
 }
 
 void Dram::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
-  const auto* f = reinterpret_cast<const MemoryFillPacket*>(p.get_data_ptr());
+  const auto* f = extension_of<FillExtension>(p);
+  if (!f) {
+    p.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
+    return;
+  }
   const std::size_t channel = f->unit / units_per_channel_;
-  if (p.get_command() != tlm::TLM_READ_COMMAND || channel >= channels_.size()) {
+  if (p.get_command() != tlm::TLM_READ_COMMAND || channel >= channels_.size() || p.get_address() >= addr::dram_size) {
     p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
     return;
   }

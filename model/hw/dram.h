@@ -1,6 +1,9 @@
-// Dram: the memory behind the units' object memories when they are caches (cache.h). It
-// holds the whole scene's geometry; it serves cache line fills, from each unit's object
-// memory directly (memory.dram.path "channel") or over the shared bus ("bus").
+// Dram: the memory behind the units' object memories when they are caches (cache.h) and
+// their misses contend: channels shared by several units (memory.dram.units_per_channel >
+// 1), or misses over the shared bus (memory.dram.path "bus"). It holds the whole scene's
+// geometry from addr::dram_base on and serves cache line fills. (An object memory with a
+// channel of its own times its fills itself: timing/object_memory_model.h; the engine
+// instantiates this module only when some memory needs it.)
 //
 // Timing. Units share channels, units_per_channel each (unit u on channel u / k). A channel
 // moves one line at a time, line_bytes / bytes_per_cycle cycles, granted first come first

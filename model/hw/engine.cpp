@@ -13,8 +13,9 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
   const bool decoupled = arch.level == Level::lt;
   gpp_ = std::make_unique<Gpp<T>>("gpp", scene, geometry, arch, frame_, vcd, timeline);
   bus_ = std::make_unique<Bus>("bus", arch, decoupled, vcd, timeline);
-  dram_ = std::make_unique<Dram>("dram", arch, units);
-  const bool fill_over_bus = arch.memory.dram.path == DramPath::bus;
+  const bool fills = arch.memory.sram_bytes != 0 && fills_leave_memory(arch);
+  if (fills) dram_ = std::make_unique<Dram>("dram", arch, units);
+  const bool fill_over_bus = fills && arch.memory.dram.path == DramPath::bus;
   host.bind(gpp_->host);
   gpp_->bus.bind(bus_->in);
   bus_->out.bind(gpp_->hits);
@@ -25,13 +26,17 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
     fifos_.push_back(std::make_unique<RayFifo>(("fifo" + n).c_str(), arch.fifo_depth, vcd));
     memories_.push_back(
         std::make_unique<ObjectMemory>(("memory" + n).c_str(), static_cast<int>(i), arch, geometry.sphere_count(), vcd));
-    units_.push_back(std::make_unique<IntersectionUnit<T>>(("iu" + n).c_str(), static_cast<int>(i), arch, geometry,
-                                                             frame_, vcd, timeline));
+    if (arch.iu.model == IuModel::pipelined)
+      units_.push_back(std::make_unique<PipelinedUnit<T>>(("iu" + n).c_str(), static_cast<int>(i), arch, geometry,
+                                                          frame_, vcd, timeline));
+    else
+      units_.push_back(std::make_unique<SerialUnit<T>>(("iu" + n).c_str(), static_cast<int>(i), arch, geometry, frame_,
+                                                       vcd, timeline));
     IntersectionUnit<T>& u = *units_.back();
     u.bus.bind(bus_->in);
     u.mem.bind(memories_.back()->read);
     if (fill_over_bus) memories_.back()->fill.bind(bus_->in);
-    else memories_.back()->fill.bind(dram_->in);
+    else if (fills) memories_.back()->fill.bind(dram_->in);
     u.fifo.bind(*fifos_.back());
     gpp_->fifos.bind(*fifos_.back());
     bus_->out.bind(u.cfg);
@@ -47,7 +52,7 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
   bus_->map(addr::broadcast_rays, addr::region_size, every_fifo, "ray");
   if (fill_over_bus) {
     bus_->out.bind(dram_->in);
-    bus_->map(addr::dram, addr::region_size, {1 + 3 * static_cast<int>(units)}, "cache fill");
+    bus_->map(addr::dram_base, addr::dram_size, {1 + 3 * static_cast<int>(units)}, "cache fill");
   }
 }
 
@@ -60,11 +65,8 @@ void Engine<T>::assign(const Assignment& a) {
 
 template <typename T>
 void Engine<T>::run_frame(FrameCommand& cmd) {
-  command_.set_command(tlm::TLM_WRITE_COMMAND);
-  command_.set_address(0);
-  command_.set_data_ptr(reinterpret_cast<unsigned char*>(&cmd));
-  command_.set_data_length(static_cast<unsigned>(cmd.to_world.size() * 12 * sizeof(float)));
-  command_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+  const auto bytes = static_cast<unsigned>(cmd.to_world.size() * 12 * sizeof(float));  // the matrices
+  prepare<FrameExtension>(command_, tlm::TLM_WRITE_COMMAND, 0, command_bytes_.data(bytes), bytes).command = &cmd;
   sc_time delay = SC_ZERO_TIME;
   host->b_transport(command_, delay);
   if (command_.is_response_error()) SC_REPORT_FATAL(name(), "frame command failed");

@@ -1,6 +1,7 @@
 // Engine: the top of the hardware model. It instantiates the GPP, the bus, and for every
-// unit the assignment uses (min(units requested, spheres)) an intersection unit with its
-// ray FIFO and object memory, and binds them; all binding happens here.
+// unit the assignment uses (min(units requested, spheres)) an intersection unit (serial or
+// pipelined) with its ray FIFO and object memory, and DRAM when object memories share its
+// channels or reach it over the bus; it binds them; all binding happens here.
 //
 //   host --> Gpp.host
 //   Gpp.bus, IntersectionUnit[i].bus --> Bus.in
@@ -9,7 +10,7 @@
 //   Bus.out[2 + 3i] --> ObjectMemory[i].load
 //   Bus.out[3 + 3i] --> RayFifo[i].in              (and the broadcast region: every RayFifo)
 //   IntersectionUnit[i].mem --> ObjectMemory[i].read;  IntersectionUnit[i].fifo --> RayFifo[i]
-//   ObjectMemory[i].fill --> Dram.in               (memory.dram.path "channel"), or
+//   ObjectMemory[i].fill --> Dram.in               (shared channels: memory.dram.path "channel"), or
 //   ObjectMemory[i].fill --> Bus.in; Bus.out[1 + 3 units] --> Dram.in   ("bus")
 #pragma once
 
@@ -18,6 +19,8 @@
 #include "hw/dram.h"
 #include "hw/gpp.h"
 #include "hw/intersection_unit.h"
+#include "hw/pipelined_unit.h"
+#include "hw/serial_unit.h"
 #include "hw/object_memory.h"
 #include "hw/ray_fifo.h"
 
@@ -50,7 +53,7 @@ class Engine : public sc_core::sc_module {
   IntersectionUnit<T>& unit(std::size_t i) { return *units_[i]; }
   RayFifo& fifo(std::size_t i) { return *fifos_[i]; }
   ObjectMemory& memory(std::size_t i) { return *memories_[i]; }
-  Dram& dram() { return *dram_; }
+  Dram* dram() { return dram_.get(); }  // null when no object memory needs it
   const FunctionalFrame<T>& functional() const { return frame_; }
 
  private:
@@ -62,6 +65,7 @@ class Engine : public sc_core::sc_module {
   std::vector<std::unique_ptr<RayFifo>> fifos_;
   std::vector<std::unique_ptr<ObjectMemory>> memories_;
   tlm::tlm_generic_payload command_;
+  ByteBuffer command_bytes_;
 };
 
 extern template class Engine<float>;

@@ -1,6 +1,5 @@
 #include "hw/gpp.h"
 
-#include "ref/camera.h"
 #include "ref/stop.h"
 
 #include <algorithm>
@@ -22,6 +21,7 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
       arch_(arch),
       frame_(frame),
       cycle_(arch.cycle_ns(), SC_NS),
+      plan_(scene, geometry, arch),
       clock_(arch.level == Level::lt ? LocalClock::Mode::quantum : LocalClock::Mode::exact),
       sync_on_bus_(arch.bus.model == BusModel::shared && arch.bus.lt_arbitration == LtArbitration::sync),
       vcd_(vcd),
@@ -40,7 +40,12 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
 
 template <typename T>
 void Gpp<T>::host_transport(tlm::tlm_generic_payload& p, sc_time&) {
-  command_ = reinterpret_cast<const FrameCommand*>(p.get_data_ptr());
+  const auto* e = extension_of<FrameExtension>(p);
+  if (!e || !e->command) {
+    p.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
+    return;
+  }
+  command_ = e->command;
   request_.notify();
   wait(done_);
   p.set_response_status(tlm::TLM_OK_RESPONSE);
@@ -61,22 +66,15 @@ void Gpp<T>::run() {
 }
 
 template <typename T>
-void Gpp<T>::write(std::uint64_t address, void* data, unsigned bytes) {
-  write_.set_command(tlm::TLM_WRITE_COMMAND);
-  write_.set_address(address);
-  write_.set_data_ptr(static_cast<unsigned char*>(data));
-  write_.set_data_length(bytes);
-  write_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+void Gpp<T>::write(tlm::tlm_generic_payload& p) {
   if (sync_on_bus_) clock_.sync();  // bus.lt_arbitration = sync (bus.h)
   sc_time delay = clock_.offset();
   const sc_time sim = sc_time_stamp();
-  bus->b_transport(write_, delay);
-  if (write_.is_response_error()) {
-    SC_REPORT_FATAL(name(), ("bus write to 0x" + [&] {
-                               char b[32];
-                               std::snprintf(b, sizeof b, "%llx", (unsigned long long)address);
-                               return std::string(b);
-                             }() + " failed: " + write_.get_response_string()).c_str());
+  bus->b_transport(p, delay);
+  if (p.is_response_error()) {
+    char address[32];
+    std::snprintf(address, sizeof address, "%llx", static_cast<unsigned long long>(p.get_address()));
+    SC_REPORT_FATAL(name(), ("bus write to 0x" + std::string(address) + " failed: " + p.get_response_string()).c_str());
   }
   clock_.advance_to(sim + delay);
 }
@@ -137,26 +135,30 @@ void Gpp<T>::issue(std::uint32_t id) {
   ++issued_;
   ++stats_.rays[static_cast<int>(frame_.rays[id].kind)];
   trace_in_flight();
-  RayPacket<T> packet{id, &frame_.rays[id]};
-  write(addr::broadcast_rays, &packet, Bytes<T>::ray_bytes(arch_.top_tree()));
+  const unsigned bytes = Bytes<T>::ray_bytes(arch_.top_tree());
+  unsigned char* data = ray_bytes_.data(bytes);
+  WireRay<T>::write(data, id, frame_.rays[id], arch_.top_tree());
+  prepare(ray_, tlm::TLM_WRITE_COMMAND, addr::broadcast_rays, data, bytes);
+  write(ray_);
 }
 
 template <typename T>
 void Gpp<T>::hit_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
-  const auto* a = reinterpret_cast<const AnswerPacket<T>*>(p.get_data_ptr());
-  if (p.get_command() != tlm::TLM_WRITE_COMMAND || a->ray >= pending_.size() || !pending_[a->ray].answers_left) {
+  WireAnswer<T> a;
+  if (p.get_command() != tlm::TLM_WRITE_COMMAND || !a.read(p.get_data_ptr(), p.get_data_length()) ||
+      a.ray >= pending_.size() || !pending_[a.ray].answers_left) {
     p.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
     return;
   }
-  Pending& r = pending_[a->ray];
-  r.occluded = r.occluded || a->occluded;
-  if (a->hit.valid() && closer(a->hit, r.hit)) r.hit = a->hit;
-  completed_at_[a->ray] = std::max(completed_at_[a->ray], sc_time_stamp() + delay);
+  Pending& r = pending_[a.ray];
+  r.occluded = r.occluded || a.occluded;
+  if (a.hit.valid() && closer(a.hit, r.hit)) r.hit = a.hit;
+  completed_at_[a.ray] = std::max(completed_at_[a.ray], sc_time_stamp() + delay);
   if (--r.answers_left == 0) {
-    completed_.push({completed_at_[a->ray], a->ray});
+    work_->answered(completed_at_[a.ray], a.ray);
     // Wake the GPP only if it waits for something later than this completion (a unit
     // running ahead answers long before the answer is due; the GPP's deadline covers it).
-    if (completed_at_[a->ray] < wake_before_) answered_.notify();
+    if (completed_at_[a.ray] < wake_before_) answered_.notify();
   }
   p.set_response_status(tlm::TLM_OK_RESPONSE);
 }
@@ -194,10 +196,8 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
       img.z[p] = static_cast<float>(pr.hit.t);
       img.object[p] = pr.hit.object;
       img.prim[p] = pr.hit.prim;
-      const std::uint32_t first = id + 1, end = frame_.pixel_rays[p + 1];
-      shadow_left_[p] = end - first;
-      for (std::uint32_t s = first; s < end; ++s) shadow_queue_.push_back(s);
-      if (first == end) finish_pixel(p, img);
+      shadow_left_[p] = frame_.pixel_rays[p + 1] - (id + 1);  // GppWork queued them
+      if (!shadow_left_[p]) finish_pixel(p, img);
     }
   } else if (--shadow_left_[rec.pixel] == 0) {
     finish_pixel(rec.pixel, img);
@@ -205,43 +205,21 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
   trace_in_flight();
 }
 
-// Object memories hold the geometry of their unit's spheres. Before the animation the
-// set-up command loads every memory, outside any frame. When a later frame's
-// assignment moves spheres, the geometry a unit gains is written into its memory over the
-// bus before the frame's rays: that transfer is part of the frame. Non-rigid (deforming)
-// spheres are rewritten every frame.
-// A unit whose spheres exceed its memory's capacity (memory.sram_bytes) reads them from
-// DRAM through its memory, now a cache (cache.h): DRAM holds the whole scene from the
-// set-up on, so nothing moves when its spheres change; deforming geometry is rewritten in
-// DRAM, and dropped from every cache.
+// The plan's loads (gpp_plan.h): the set-up command loads every memory, outside any frame;
+// a frame writes what moved or deforms, over the bus, before its rays.
 template <typename T>
 void Gpp<T>::load_memories() {
-  loaded_.resize(assignment_.size());
-  cached_.resize(assignment_.size(), 0);
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> rewritten;
-  const GeometryAddresses<T> at(geom_);
-  for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s)
-    if (geom_.deforming[s] && arch_.memory.sram_bytes) {
-      rewritten.push_back(at.triangles_of(geom_, s));
-      rewritten.push_back(at.nodes_of(geom_, s));
-    }
-  for (std::size_t u = 0; u < assignment_.size(); ++u) {
-    const bool cache = memory_is_cache(arch_, assigned_bytes(geom_, assignment_[u]));
-    std::uint64_t bytes = 0;
-    for (std::uint32_t s : assignment_[u])
-      if (geom_.deforming[s] ||
-          (!cache && (cached_[u] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())))
-        bytes += geom_.memory_bytes(s);  // triangles, and nodes with a BVH
-    if (loaded_[u] == assignment_[u] && cache == static_cast<bool>(cached_[u]) && bytes == 0) continue;
-    MemoryLoadPacket packet{assignment_[u], cache, cache ? rewritten : decltype(rewritten){}};
-    cached_[u] = cache ? 1 : 0;
-    stats_.memory_load_bytes += bytes;
-    stats_.unit_memory_load_bytes.resize(assignment_.size(), 0);
-    stats_.unit_memory_load_bytes[u] += bytes;
+  for (const MemoryLoad& l : plan_.memory_loads()) {
+    stats_.memory_load_bytes += l.bytes;
+    stats_.unit_memory_load_bytes.resize(plan_.units(), 0);
+    stats_.unit_memory_load_bytes[l.unit] += l.bytes;
     const sc_time before = clock_.now();
-    write(addr::iu_window(static_cast<int>(u)) + addr::iu_memory, &packet, static_cast<unsigned>(bytes));
+    LoadExtension& e = prepare<LoadExtension>(load_, tlm::TLM_WRITE_COMMAND,
+                                              addr::iu_window(static_cast<int>(l.unit)) + addr::iu_memory,
+                                              bulk_bytes_.data(l.bytes), static_cast<unsigned>(l.bytes));
+    e.load = &l;
+    write(load_);
     stats_.memory_load_cycles += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
-    loaded_[u] = assignment_[u];
   }
 }
 
@@ -251,21 +229,14 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   stats_.start = clock_.now();
   load_memories();  // geometry that moved or deforms (the set-up command loaded the rest)
   if (vcd_) vcd_->change(vcd_frame_, stats_.start.value(), static_cast<std::uint64_t>(cmd.frame));
-  const FrameSetup<T> setup = setup_frame(scene_, geom_, cmd.frame, cmd.to_world, cmd.camera);
 
-  // Configuration registers: each unit's spheres, world spheres and matrices, and with
-  // --top bvh its tree over them, refitted to the frame by the GPP (rebuilt first where the
-  // unit's spheres changed; building, like choosing the assignment, is not charged).
-  units_ = static_cast<unsigned>(assignment_.size());
-  registers_.resize(units_);
-  trees_.resize(arch_.top_tree() ? units_ : 0);
-  for (unsigned u = 0; u < units_; ++u) {
-    registers_[u].load(setup, geom_, assignment_[u]);
-    if (arch_.top_tree())
-      stats_.refit_nodes += load_top(registers_[u], trees_[u], assignment_[u], setup, geom_, &stats_.built_nodes);
-  }
+  // Configuration registers, and the refit of the units' trees before they are written.
+  const auto& config = plan_.configure(cmd);
+  units_ = static_cast<unsigned>(plan_.units());
+  stats_.refit_nodes = config.refit_nodes;
+  stats_.refit_cycles = config.refit_cycles;
+  stats_.built_nodes = config.built_nodes;
   if (stats_.refit_nodes) {
-    stats_.refit_cycles = stats_.refit_nodes * static_cast<std::uint64_t>(arch_.gpp.cycles_per_node);
     const sc_time start = clock_.now();
     if (vcd_) vcd_->change(vcd_refit_, start.value(), 1);
     clock_.advance(cycle_ * static_cast<double>(stats_.refit_cycles));
@@ -273,21 +244,19 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     if (timeline_) timeline_->slice(track_, "refit", start.value(), clock_.now().value(), {{"nodes", stats_.refit_nodes}});
   }
   for (unsigned u = 0; u < units_; ++u) {
-    ConfigPacket<T> packet{&registers_[u], cached_[u] != 0};
-    const unsigned bytes = static_cast<unsigned>(assignment_[u].size()) * Bytes<T>::sphere_config +
-                           static_cast<unsigned>(registers_[u].top.size()) * Bytes<T>::top_node;
+    const auto bytes = static_cast<unsigned>(config.bytes[u]);
     stats_.config_bytes += bytes;
-    write(addr::iu_window(static_cast<int>(u)) + addr::iu_config, &packet, bytes);
+    ConfigExtension<T>& e = prepare<ConfigExtension<T>>(config_, tlm::TLM_WRITE_COMMAND,
+                                                        addr::iu_window(static_cast<int>(u)) + addr::iu_config,
+                                                        bulk_bytes_.data(bytes), bytes);
+    e.registers = &plan_.registers()[u];
+    e.cached = plan_.cached(u);
+    write(config_);
   }
 
   // The frame's functional work, on every thread the pool allows (functional_frame.h).
-  const CameraRays camera(cmd.camera, cmd.width, cmd.height);
-  const Shader<T> shader(scene_, setup);
   try {
-    // The records' detail for the waveform's phases, and for caches, which time each visit.
-    const bool caches = std::find(cached_.begin(), cached_.end(), 1) != cached_.end();
-    trace_functional(frame_, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height,
-                     vcd_ != nullptr || timeline_ != nullptr || caches || arch_.iu.model == IuModel::pipelined);
+    plan_.trace(frame_, cmd, vcd_ != nullptr || timeline_ != nullptr);
   } catch (const Interrupted&) {  // SIGINT / SIGTERM: abandon the frame; the testbench says what completed
     sc_stop();
     wait(abandoned_);  // never notified
@@ -297,48 +266,38 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   pending_.assign(frame_.ray_count(), Pending{});
   completed_at_.assign(frame_.ray_count(), SC_ZERO_TIME);
   shadow_left_.assign(pixels, 0);
-  completed_ = {};
-  shadow_queue_.clear();
+  work_ = std::make_unique<GppWork<T, sc_time>>(frame_);
   issued_ = retired_ = 0;
   primaries_retired_ = 0;
   pixel_count_ = pixels;
-  std::size_t next_pixel = 0;
-  // The GPP's next work item, at either level: the earlier of (a) handling an answered
-  // ray, due when its last answer arrived, and (b) writing the next ray (a shadow ray
-  // first), possible once every FIFO has room; on a tie (a), as at `at`. At `at` both are
-  // always due by the time the GPP looks. Under temporal decoupling either can lie in the
-  // GPP's future: a unit running ahead answers, or pops, early in simulation order. The
-  // GPP then does not jump its clock to that time (it would handle that answer before
-  // answers due earlier that lagging units have yet to send, and hold back every ray it
-  // would have written meanwhile) but waits in simulation time until it is due, or until
-  // something earlier turns up.
+  // The GPP's next work item (GppWork): the earlier of (a) handling an answered ray, due
+  // when its last answer arrived, and (b) writing the next ray (a shadow ray first),
+  // possible once every FIFO has room; on a tie (a). At `at` both are always due by the
+  // time the GPP looks. Under temporal decoupling either can lie in the GPP's future: a
+  // unit running ahead answers, or pops, early in simulation order. The GPP then does not
+  // jump its clock to that time (it would handle that answer before answers due earlier
+  // that lagging units have yet to send, and hold back every ray it would have written
+  // meanwhile) but waits in simulation time until it is due, or until something earlier
+  // turns up.
   const sc_time never = sc_max_time();
   for (;;) {
     if (stop_signal()) {  // SIGINT / SIGTERM: abandon the frame; the testbench says what completed
       sc_stop();
       wait(abandoned_);  // never notified
     }
-    const bool work = !shadow_queue_.empty() || next_pixel < pixels;
-    const bool room = work && full_fifo() < 0;
-    const sc_time due = completed_.empty() ? never : completed_.top().at;
+    const bool has_ray = work_->has_ray();
+    const bool room = has_ray && full_fifo() < 0;
     const sc_time ready = room ? room_time() : never;
-    const sc_time next = std::min(due, ready);
-    if (next == never && !work && retired_ == issued_) break;
-    if (next <= clock_.now()) {
-      if (due <= ready) {
-        const std::uint32_t id = completed_.top().ray;
-        completed_.pop();
-        retire(id, cmd);
-      } else if (!shadow_queue_.empty()) {
-        const std::uint32_t id = shadow_queue_.front();
-        shadow_queue_.pop_front();
-        issue(id);
-      } else {
-        issue(frame_.pixel_rays[next_pixel++]);
-      }
-      continue;
+    const auto next = work_->next(clock_.now(), ready, never, retired_ == issued_);
+    if (next == GppWork<T, sc_time>::Next::done) break;
+    if (next == GppWork<T, sc_time>::Next::retire) {
+      retire(work_->retire().first, cmd);
+    } else if (next == GppWork<T, sc_time>::Next::issue) {
+      issue(work_->take_ray());
+    } else {
+      const sc_time due = std::min(work_->due(never), ready);
+      wait_for_space_or_answers(has_ray && !room, due == never ? nullptr : &due);
     }
-    wait_for_space_or_answers(work && !room, next == never ? nullptr : &next);
   }
   stats_.end = clock_.now();
   if (timeline_)

@@ -5,31 +5,29 @@
 // keeps the nearest hit, shades it (Phong) and issues the shadow rays; the frame ends when
 // every ray has retired.
 //
-// It is one sequential processor: its work items are, in priority order, handling a ray
-// whose answers are all in (cycles_per_hit for a primary hit), issuing a pending shadow ray,
-// and issuing the next primary ray (cycles_per_ray each). It starts a ray write only when
-// every ray FIFO has room, so a full FIFO never holds the bus.
-//
-// What it computes (which rays a pixel needs, the shading, the colours) was traced before
-// the frame's timing with the units' registers (functional_frame.h): the GPP issues those
-// rays, merges the answers the units send, and checks each merged answer against the trace.
+// Its rules are the plan's (timing/gpp_plan.h, shared with the analytic level): what each
+// object memory loads, the registers and the refit of the units' trees, the frame's
+// functional trace, and the order of its work: handling a ray whose answers are all in
+// (cycles_per_hit for a primary hit), issuing a pending shadow ray, issuing the next primary
+// ray (cycles_per_ray each). This module spends the time: it starts a ray write only when
+// every ray FIFO has room, so a full FIFO never holds the bus; it merges the answers the
+// units send and checks each merged answer against the trace.
 #pragma once
 
 #include "arch/arch.h"
 #include "timing/functional_frame.h"
+#include "timing/gpp_plan.h"
 #include "hw/local_clock.h"
-#include "hw/payloads.h"
+#include "hw/extensions.h"
 #include "hw/ray_fifo.h"
 #include "trace/timeline.h"
-#include "timing/visit_stream.h"
 #include "trace/vcd_writer.h"
 #include "hw/watchdog.h"
 #include "ref/image.h"
 #include "ref/shading.h"
 
-#include <deque>
-#include <queue>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include <systemc>
@@ -64,7 +62,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
       FunctionalFrame<T>& frame, VcdWriter* vcd, TimelineWriter* timeline = nullptr);
 
   // Spheres per unit, in the units' order; takes effect at the next frame.
-  void set_assignment(const std::vector<std::vector<std::uint32_t>>& unit_spheres) { assignment_ = unit_spheres; }
+  void set_assignment(const std::vector<std::vector<std::uint32_t>>& unit_spheres) { plan_.assign(unit_spheres); }
   const GppStats& stats() const { return stats_; }
   // Called now and then during a frame with (primary rays retired, pixels): for progress bars.
   void on_progress(std::function<void(std::uint64_t, std::uint64_t)> f) { progress_ = std::move(f); }
@@ -82,7 +80,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
   void hit_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
   void render_frame(const FrameCommand& cmd);
   void load_memories();
-  void write(std::uint64_t address, void* data, unsigned bytes);
+  void write(tlm::tlm_generic_payload& p);
   int full_fifo() const;  // index of a full ray FIFO, or -1
   void wait_for_space_or_answers(bool want_space, const sc_core::sc_time* deadline);
   sc_core::sc_time room_time() const;
@@ -96,10 +94,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
   const Arch& arch_;
   FunctionalFrame<T>& frame_;
   const sc_core::sc_time cycle_;
-  std::vector<std::vector<std::uint32_t>> assignment_, loaded_;
-  std::vector<char> cached_;  // per unit: its spheres do not fit, its object memory is a cache
-  std::vector<IuRegisters<T>> registers_;
-  std::vector<TopTree> trees_;  // --top bvh: per unit
+  GppPlan<T> plan_;
   LocalClock clock_;
   const bool sync_on_bus_;
   GppStats stats_;
@@ -110,19 +105,12 @@ class Gpp : public sc_core::sc_module, public Waiter {
   sc_core::sc_time wake_before_;  // while waiting for answers: a completion before this wakes the GPP
   std::vector<Pending> pending_;
   std::vector<std::uint32_t> shadow_left_;  // per pixel: shadow rays not yet answered
-  // Rays whose answers are all in, by (completion time, ray id): the GPP handles them in
-  // this order, so simultaneous completions have one defined order at every level.
-  struct Completion {
-    sc_core::sc_time at;
-    std::uint32_t ray;
-    bool operator>(const Completion& o) const { return at != o.at ? at > o.at : ray > o.ray; }
-  };
-  std::priority_queue<Completion, std::vector<Completion>, std::greater<Completion>> completed_;
-  std::deque<std::uint32_t> shadow_queue_;
+  std::unique_ptr<GppWork<T, sc_core::sc_time>> work_;
   std::vector<sc_core::sc_time> completed_at_;  // per ray: when its last answer arrived
   std::uint64_t issued_ = 0, retired_ = 0;
   unsigned units_ = 0;
-  tlm::tlm_generic_payload write_;
+  tlm::tlm_generic_payload ray_, config_, load_;  // a payload per purpose (extensions.h)
+  ByteBuffer ray_bytes_, bulk_bytes_;
   std::function<void(std::uint64_t, std::uint64_t)> progress_;
   std::uint64_t primaries_retired_ = 0, pixel_count_ = 0;
   VcdWriter* vcd_;

@@ -1,6 +1,6 @@
 #include "hw/object_memory.h"
 
-#include "hw/payloads.h"
+#include "hw/extensions.h"
 
 #include <algorithm>
 
@@ -15,77 +15,75 @@ ObjectMemory::ObjectMemory(const sc_module_name& name, int unit, const Arch& arc
       load("load"),
       fill("fill"),
       unit_(unit),
-      arch_(arch),
       cycle_(arch.cycle_ns(), SC_NS),
-      latency_(arch.memory.model == MemoryModel::latency ? arch.cycle_ns() * arch.memory.latency_cycles : 0,
-               SC_NS),
+      model_(arch, static_cast<std::uint32_t>(unit)),
+      fill_base_(arch.memory.dram.path == DramPath::bus ? addr::dram_base : 0),
       loaded_(spheres, 0),
       vcd_(vcd) {
   read.register_b_transport(this, &ObjectMemory::read_transport);
   load.register_b_transport(this, &ObjectMemory::load_transport);
-  if (vcd_ && arch.memory.sram_bytes) vcd_misses_ = vcd_->add_counter(this->name(), "misses", 16);
+  if (vcd_ && arch.memory.sram_bytes && (vcd_misses_ = vcd_->add_counter(this->name(), "misses", 16)) == VcdWriter::kNotTraced)
+    vcd_ = nullptr;
+  if (!vcd_) vcd_misses_ = -1;
+  if (fills_leave_memory(arch)) model_.set_fill(this);
 }
 
 void ObjectMemory::read_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
-  auto* r = reinterpret_cast<MemoryReadPacket*>(p.get_data_ptr());
+  const auto* r = extension_of<VisitReadExtension>(p);
+  if (!r) {
+    p.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
+    return;
+  }
   const bool whole_ray = r->sphere == kNone;  // a ray's reads over all its entered spheres
   if (p.get_command() != tlm::TLM_READ_COMMAND || (!whole_ray && (r->sphere >= loaded_.size() || !loaded_[r->sphere]))) {
     // The unit asked for geometry this memory does not hold: a wiring or assignment bug.
     p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
     return;
   }
-  ++bursts_;
   bytes_read_ += p.get_data_length();
   p.set_response_status(tlm::TLM_OK_RESPONSE);
-  if (!is_cache_ || !r->stream) {
-    delay += latency_;
-    return;
+  if (!r->stream) return;
+  // Time the visit's bursts; with `sync` each miss is sent when it is due (fetch), so that
+  // a DRAM channel shared with other units sees every unit's requests in time order.
+  sync_ = r->sync;
+  model_.forget_before(cycles(sc_time_stamp()));  // no unit reads earlier than now
+  const Cycle end = model_.visit(*r->stream, cycles(sc_time_stamp() + delay), *r->unit);
+  delay = std::max(at(end), sc_time_stamp()) - sc_time_stamp();
+}
+
+Cycle ObjectMemory::fetch(std::uint64_t address, Cycle t) {
+  const sc_time due = at(t);
+  if (sync_ && due > sc_time_stamp()) wait(due - sc_time_stamp());
+  FillExtension& f = prepare<FillExtension>(fill_, tlm::TLM_READ_COMMAND, fill_base_ + address, nullptr, 0u);
+  f.unit = static_cast<std::uint32_t>(unit_);
+  const unsigned line_bytes = static_cast<unsigned>(model_.line_bytes());
+  fill_.set_data_ptr(line_.data(line_bytes));
+  fill_.set_data_length(line_bytes);
+  fill_.set_streaming_width(line_bytes);
+  sc_time d = due > sc_time_stamp() ? due - sc_time_stamp() : SC_ZERO_TIME;
+  fill->b_transport(fill_, d);
+  if (fill_.is_response_error()) SC_REPORT_FATAL(name(), "cache line fill from DRAM failed");
+  const sc_time arrival = sc_time_stamp() + d;
+  if (vcd_) {
+    vcd_->change_by(vcd_misses_, due.value(), 1);
+    vcd_->change_by(vcd_misses_, arrival.value(), -1);
   }
-  // A cache: time the visit line by line. Each miss is sent when it is due; with `sync` the
-  // memory first waits until then, so that DRAM sees every unit's requests in time order.
-  const std::uint64_t line_bytes = cache_.line_bytes();
-  auto fetch = [&](std::uint64_t line, std::uint64_t t) {
-    const sc_time due = at(t);
-    if (r->sync && due > sc_time_stamp()) wait(due - sc_time_stamp());
-    MemoryFillPacket f{static_cast<std::uint32_t>(unit_), line * line_bytes};
-    fill_.set_command(tlm::TLM_READ_COMMAND);
-    fill_.set_address(addr::dram);
-    fill_.set_data_ptr(reinterpret_cast<unsigned char*>(&f));
-    fill_.set_data_length(static_cast<unsigned>(line_bytes));
-    fill_.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
-    sc_time d = due > sc_time_stamp() ? due - sc_time_stamp() : SC_ZERO_TIME;
-    fill->b_transport(fill_, d);
-    if (fill_.is_response_error()) SC_REPORT_FATAL(name(), "cache line fill from DRAM failed");
-    const sc_time arrival = sc_time_stamp() + d;
-    if (vcd_) {
-      vcd_->change_by(vcd_misses_, due.value(), 1);
-      vcd_->change_by(vcd_misses_, arrival.value(), -1);
-    }
-    return cycles(arrival);
-  };
-  // The unit's stalls, as they happen (never before simulation time: a miss sent late by a
-  // full miss window can make the unit wait from a time the memory has already passed).
-  auto state = [&](int code, std::uint64_t t) {
-    if (vcd_ && r->state_var >= 0)
-      vcd_->change(r->state_var, std::max(this->at(t), sc_time_stamp()).value(),
-                   static_cast<std::uint64_t>(code));
-  };
-  const std::uint64_t stall_before = counts_.stall;
-  const std::uint64_t end =
-      time_visit(*r->costs, *r->stream, cycles(sc_time_stamp() + delay), cache_, window_, counts_, fetch, state);
-  r->stall = counts_.stall - stall_before;
-  delay = at(end) - sc_time_stamp();
+  return cycles(arrival);
 }
 
 void ObjectMemory::load_transport(tlm::tlm_generic_payload& p, sc_time&) {
+  const auto* e = extension_of<LoadExtension>(p);
   if (p.get_command() != tlm::TLM_WRITE_COMMAND) {
     p.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
     return;
   }
-  const auto* l = reinterpret_cast<const MemoryLoadPacket*>(p.get_data_ptr());
+  if (!e || !e->load || !e->load->spheres) {
+    p.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
+    return;
+  }
   std::fill(loaded_.begin(), loaded_.end(), 0);
   loaded_count_ = 0;
-  for (std::uint32_t s : l->spheres) {
+  for (std::uint32_t s : *e->load->spheres) {
     if (s >= loaded_.size()) {
       p.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
       return;
@@ -93,16 +91,7 @@ void ObjectMemory::load_transport(tlm::tlm_generic_payload& p, sc_time&) {
     loaded_[s] = 1;
     ++loaded_count_;
   }
-  if (l->cache && !is_cache_) {  // it held its spheres whole until now: a cold cache
-    const auto& c = arch_.memory.cache;
-    cache_ = Cache(arch_.memory.sram_bytes, static_cast<std::uint32_t>(c.line_bytes), static_cast<std::uint32_t>(c.ways),
-                   c.replacement, static_cast<std::uint64_t>(unit_) + 1);
-    window_ = MissWindow(static_cast<std::uint32_t>(c.misses_outstanding));
-  }
-  is_cache_ = l->cache;
-  if (is_cache_)
-    for (const auto& [first, end] : l->rewritten)
-      cache_.invalidate(first / cache_.line_bytes(), (end + cache_.line_bytes() - 1) / cache_.line_bytes());
+  model_.load(*e->load);
   p.set_response_status(tlm::TLM_OK_RESPONSE);
 }
 

@@ -1,22 +1,20 @@
-// ObjectMemory: the geometry store beside one intersection unit, holding the triangle blocks
-// of the spheres assigned to it. Loaded over the bus (`load`), read by its unit (`read`),
-// one burst per sphere visit.
+// ObjectMemory: the geometry store beside one intersection unit, holding the triangles (and
+// BVH nodes) of the spheres assigned to it. Loaded over the bus (`load`), read by its unit
+// (`read`), one transaction per sphere visit (or per ray, when nothing times the visits).
 //
-// Timing. `ideal`: data is there when the unit needs it. `latency`: a burst's first
-// triangle arrives latency_cycles after the request, then the block streams at
-// bytes_per_cycle. The unit requests the block when the sphere test hits, so the transform
-// hides up to its own length of latency, and each triangle test starts when both the unit
-// and that triangle's data are ready (stream_stall()).
-//
-// With a capacity (memory.sram_bytes) that the unit's spheres exceed, the memory is a cache
-// in front of DRAM (cache.h): the unit sends each visit's reads with their addresses, the
-// memory times the visit line by line and sends its misses (`fill`) to the DRAM channel or
-// over the bus. It keeps its lines from frame to frame. The VCD counts its misses in flight.
+// Its timing is the plain-C++ model every level shares (timing/object_memory_model.h):
+// on-chip memory (ideal, or latency and streaming), or, when the unit's spheres exceed
+// memory.sram_bytes, a cache in front of DRAM. A read that carries a visit's bursts
+// (VisitReadExtension) is timed by the model, which hands each burst's arrivals to the
+// unit's consumer; a plain read takes no time of its own (the functional trace holds
+// on-chip memory's, memory_timing.h). A cache keeps its lines from frame to frame. Its DRAM
+// channel is its own, inside the model; a channel shared with other units, or misses over
+// the shared bus, go out through `fill` (hw/dram.h). The VCD counts its misses in flight.
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/cache.h"
-#include "timing/memory_timing.h"
+#include "hw/extensions.h"
+#include "timing/object_memory_model.h"
 #include "trace/vcd_writer.h"
 
 #include <cstdint>
@@ -29,43 +27,42 @@
 
 namespace oprt::hw {
 
-class ObjectMemory : public sc_core::sc_module {
+class ObjectMemory : public sc_core::sc_module, private ObjectMemoryModel::Fill {
  public:
   tlm_utils::simple_target_socket<ObjectMemory> read;     // from its unit
   tlm_utils::simple_target_socket<ObjectMemory> load;     // from the bus
-  // Cache misses, to DRAM; optional: a memory with no capacity limit never misses.
+  // Cache misses to a shared DRAM channel (or over the bus); unbound when its channel is its own.
   tlm_utils::simple_initiator_socket_optional<ObjectMemory> fill;
 
   ObjectMemory(const sc_core::sc_module_name& name, int unit, const Arch& arch, std::size_t spheres_in_scene,
                VcdWriter* vcd);
 
   std::uint64_t bytes_read() const { return bytes_read_; }
-  std::uint64_t bursts() const { return bursts_; }
-  bool is_cache() const { return is_cache_; }
-  const CacheCounts& cache_counts() const { return counts_; }
+  bool is_cache() const { return model_.is_cache(); }
+  const CacheCounts& cache_counts() const { return model_.counts(); }
   void reset_stats() {
-    bytes_read_ = bursts_ = 0;
-    counts_ = CacheCounts{};
+    bytes_read_ = 0;
+    model_.reset_counts();
   }
   std::size_t spheres_loaded() const { return loaded_count_; }
 
  private:
   void read_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
   void load_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
-  std::uint64_t cycles(const sc_core::sc_time& t) const { return t.value() / cycle_.value(); }
-  sc_core::sc_time at(std::uint64_t cycles) const { return sc_core::sc_time::from_value(cycles * cycle_.value()); }
+  Cycle fetch(std::uint64_t address, Cycle t) override;  // Fill
+  Cycle cycles(const sc_core::sc_time& t) const { return static_cast<Cycle>(t.value() / cycle_.value()); }
+  sc_core::sc_time at(Cycle c) const { return sc_core::sc_time::from_value(static_cast<std::uint64_t>(c) * cycle_.value()); }
 
   const int unit_;
-  const Arch& arch_;
-  const sc_core::sc_time cycle_, latency_;
+  const sc_core::sc_time cycle_;
+  ObjectMemoryModel model_;
+  const std::uint64_t fill_base_;  // DRAM's address where fills go: on the bus, its window
   std::vector<char> loaded_;  // per sphere of the scene
   std::size_t loaded_count_ = 0;
-  std::uint64_t bytes_read_ = 0, bursts_ = 0;
-  bool is_cache_ = false;
-  Cache cache_;
-  MissWindow window_;
-  CacheCounts counts_;
+  std::uint64_t bytes_read_ = 0;
+  bool sync_ = false;  // the read being timed waits until each miss is due
   tlm::tlm_generic_payload fill_;
+  ByteBuffer line_;
   VcdWriter* vcd_;
   int vcd_misses_ = -1;
 };

@@ -1,6 +1,6 @@
 #include "hw/ray_fifo.h"
 
-#include "hw/payloads.h"
+#include "hw/extensions.h"
 
 namespace oprt::hw {
 
@@ -28,7 +28,11 @@ void RayFifo::b_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   ++writes_waiting_;
   while (!has_space()) wait(freed_);
   --writes_waiting_;
-  const std::uint32_t id = *reinterpret_cast<const std::uint32_t*>(p.get_data_ptr());
+  if (p.get_data_length() < 4) {
+    p.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
+    return;
+  }
+  const std::uint32_t id = WireRay<float>::id(p.get_data_ptr());  // the ray's first 4 bytes, in either precision
   const sc_time at = sc_time_stamp() + delay;
   queue_.push_back({id, at});
   ++pushes_;

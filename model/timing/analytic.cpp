@@ -1,51 +1,114 @@
 #include "timing/analytic.h"
 
-#include "ref/camera.h"
-#include "ref/shading.h"
+#include "timing/calendar.h"
+#include "timing/serial_unit_timing.h"
 
 #include <algorithm>
-#include <deque>
-#include <queue>
+#include <functional>
 
 namespace oprt::hw {
 
 namespace {
 using Cycles = std::uint64_t;
 
-struct Completion {
-  Cycles at;
-  std::uint32_t ray;
-  bool operator>(const Completion& o) const { return at != o.at ? at > o.at : ray > o.ray; }
+// FIFO occupancy in time: pop times of the rays still queued at the latest push. A unit pops
+// in push order, so they only grow: a queue kept as a vector and a head.
+struct PopTimes {
+  std::vector<Cycles> t;
+  std::size_t head = 0;
+  std::size_t occupancy_after_push(Cycles at, Cycles pop) {  // rays it holds once this one is in
+    while (head < t.size() && t[head] <= at) ++head;
+    if (head == t.size()) t.clear(), head = 0;
+    else if (head >= 1024 && 2 * head >= t.size()) t.erase(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(head)), head = 0;
+    t.push_back(pop);
+    return t.size() - head;
+  }
+};
+
+// Reads through a unit's own object memory model.
+struct DirectReader final : VisitReader {
+  ObjectMemoryModel* memory = nullptr;
+  Cycle read(const VisitStream& s, Cycle request, BurstConsumer& unit) override { return memory->visit(s, request, unit); }
 };
 }  // namespace
 
-// Unit u's object memory becomes a cache, empty (ObjectMemory::load_transport).
+// DRAM channels shared by several units (memory.dram.units_per_channel > 1), or misses over
+// the shared bus: each unit's misses reserve their channel's calendar (and the bus's) in the
+// order the units' rays are timed (dram.h grants them in time order instead).
 template <typename T>
-void AnalyticEngine<T>::cold_cache(std::size_t u) {
-  const auto& c = arch_.memory.cache;
-  caches_[u] = Cache(arch_.memory.sram_bytes, static_cast<std::uint32_t>(c.line_bytes), static_cast<std::uint32_t>(c.ways),
-                     c.replacement, u + 1);
-  windows_[u] = MissWindow(static_cast<std::uint32_t>(c.misses_outstanding));
+class AnalyticEngine<T>::SharedDram {
+ public:
+  struct UnitFill final : ObjectMemoryModel::Fill {
+    SharedDram* d = nullptr;
+    std::uint32_t unit = 0;
+    Cycle fetch(std::uint64_t, Cycle t) override { return d->fetch(unit, t); }
+  };
+  SharedDram(const Arch& a, std::size_t units, std::function<Cycles(Cycles, std::uint64_t)> transfer)
+      : a_(a),
+        per_channel_(static_cast<std::uint32_t>(a.memory.dram.units_per_channel)),
+        channels_(units / per_channel_ + 1),
+        fills_(units),
+        transfer_(std::move(transfer)),
+        line_transfer_((static_cast<Cycles>(a.memory.cache.line_bytes) + a.memory.dram.bytes_per_cycle - 1) /
+                       static_cast<Cycles>(a.memory.dram.bytes_per_cycle)) {
+    for (std::uint32_t u = 0; u < units; ++u) {
+      fills_[u].d = this;
+      fills_[u].unit = u;
+    }
+  }
+  ObjectMemoryModel::Fill* fill(std::uint32_t u) { return &fills_[u]; }
+  void forget_before(Cycles g) {
+    for (auto& c : channels_) c.forget_before(g);
+  }
+  Cycle fetch(std::uint32_t u, Cycle t) {
+    Cycles q = static_cast<Cycles>(t);
+    if (a_.memory.dram.path == DramPath::bus) q = transfer_(q, static_cast<std::uint64_t>(a_.memory.cache.line_bytes));
+    return static_cast<Cycle>(channels_[u / per_channel_].reserve(q, line_transfer_) +
+                              static_cast<Cycles>(a_.memory.dram.latency_cycles));
+  }
+
+ private:
+  const Arch& a_;
+  const std::uint32_t per_channel_;
+  std::vector<Calendar<Cycles>> channels_;
+  std::vector<UnitFill> fills_;
+  std::function<Cycles(Cycles, std::uint64_t)> transfer_;
+  const Cycles line_transfer_;
+};
+
+template <typename T>
+AnalyticEngine<T>::AnalyticEngine(const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch)
+    : geom_(geometry), arch_(arch), plan_(scene, geometry, arch) {}
+
+template <typename T>
+AnalyticEngine<T>::~AnalyticEngine() = default;
+
+template <typename T>
+void AnalyticEngine<T>::assign(const Assignment& a) {
+  plan_.assign(a.unit);
+}
+
+template <typename T>
+void AnalyticEngine<T>::make_units(std::size_t units) {
+  if (memories_.size() == units) return;
+  memories_.clear();
+  for (std::size_t u = 0; u < units; ++u)
+    memories_.push_back(std::make_unique<ObjectMemoryModel>(arch_, static_cast<std::uint32_t>(u)));
 }
 
 template <typename T>
 void AnalyticEngine<T>::setup() {
-  loaded_ = assignment_;
-  cached_.assign(assignment_.size(), 0);
-  caches_.resize(assignment_.size());
-  windows_.resize(assignment_.size());
-  for (std::size_t u = 0; u < assignment_.size(); ++u)
-    if (memory_is_cache(arch_, assigned_bytes(geom_, assignment_[u]))) {
-      cold_cache(u);
-      cached_[u] = 1;
-    }
+  make_units(plan_.units());
+  for (const MemoryLoad& l : plan_.memory_loads()) memories_[l.unit]->load(l);
 }
 
 template <typename T>
 FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
-  const std::size_t units = assignment_.size();
+  const std::size_t units = plan_.units();
+  make_units(units);
   FrameRun out;
   out.units.resize(units);
+  std::vector<UnitTimed> timed(units);
 
   const bool shared = arch_.bus.model == BusModel::shared;
   Calendar<Cycles> bus;
@@ -57,128 +120,64 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     out.bus_busy += occupancy;
     return bus.reserve(at, occupancy);
   };
+  // Misses contend with other units' (hw/dram.h): the shared channels, per frame.
+  std::unique_ptr<SharedDram> frame_dram;
+  if (fills_leave_memory(arch_)) frame_dram = std::make_unique<SharedDram>(arch_, units, transfer);
 
   Cycles g = 0;  // the GPP's time
   // Geometry moved by an assignment change, and deforming geometry, is written into object
-  // memory inside the frame (as Gpp::load_memories does, caches included); setup() loaded
-  // the rest.
-  loaded_.resize(units);
-  cached_.resize(units, 0);
-  caches_.resize(units);
-  windows_.resize(units);
-  const GeometryAddresses<T> at(geom_);
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> rewritten;
-  for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s)
-    if (geom_.deforming[s] && arch_.memory.sram_bytes) {
-      rewritten.push_back(at.triangles_of(geom_, s));
-      rewritten.push_back(at.nodes_of(geom_, s));
-    }
-  const auto& cc = arch_.memory.cache;
-  for (std::size_t u = 0; u < units; ++u) {
-    out.units[u].assigned_bytes = assigned_bytes(geom_, assignment_[u]);
-    const bool cache = memory_is_cache(arch_, out.units[u].assigned_bytes);
-    out.units[u].cache = cache;
-    std::uint64_t bytes = 0;
-    for (std::uint32_t s : assignment_[u])
-      if (geom_.deforming[s] ||
-          (!cache && (cached_[u] || std::find(loaded_[u].begin(), loaded_[u].end(), s) == loaded_[u].end())))
-        bytes += geom_.memory_bytes(s);
-    if (loaded_[u] == assignment_[u] && cache == static_cast<bool>(cached_[u]) && bytes == 0) continue;
-    if (cache && !cached_[u]) cold_cache(u);
-    if (cache)
-      for (const auto& [first, end] : rewritten)
-        caches_[u].invalidate(first / cc.line_bytes, (end + cc.line_bytes - 1) / cc.line_bytes);
-    cached_[u] = cache ? 1 : 0;
-    out.memory_load_bytes += bytes;
-    out.units[u].memory_load_bytes += bytes;
+  // memory inside the frame (the set-up loaded the rest).
+  for (const MemoryLoad& l : plan_.memory_loads()) {
+    memories_[l.unit]->load(l);
+    out.memory_load_bytes += l.bytes;
+    timed[l.unit].memory_load_bytes += l.bytes;
     const Cycles before = g;
-    g = transfer(g, bytes);
+    g = transfer(g, l.bytes);
     out.memory_load_cycles += g - before;
-    loaded_[u] = assignment_[u];
   }
   // This frame's time starts at 0: every fill of the last has arrived.
-  for (std::size_t u = 0; u < units; ++u)
-    if (cached_[u]) {
-      caches_[u].settle();
-      windows_[u].clear();
-    }
-  // DRAM channels (dram.h): units_per_channel units each, one line at a time.
-  const std::uint32_t per_channel = static_cast<std::uint32_t>(arch_.memory.dram.units_per_channel);
-  std::vector<Calendar<Cycles>> channels(units / per_channel + 1);
-  const Cycles line_transfer = (static_cast<Cycles>(cc.line_bytes) + arch_.memory.dram.bytes_per_cycle - 1) /
-                               static_cast<Cycles>(arch_.memory.dram.bytes_per_cycle);
-  const bool fill_over_bus = arch_.memory.dram.path == DramPath::bus;
-
-  const FrameSetup<T> setup = setup_frame(scene_, geom_, cmd.frame, cmd.to_world, cmd.camera);
-  std::vector<IuRegisters<T>> regs(units);
-  trees_.resize(arch_.top_tree() ? units : 0);
   for (std::size_t u = 0; u < units; ++u) {
-    regs[u].load(setup, geom_, assignment_[u]);
-    if (arch_.top_tree()) out.refit_nodes += load_top(regs[u], trees_[u], assignment_[u], setup, geom_, &out.built_nodes);
+    memories_[u]->restart_time();
+    memories_[u]->reset_counts();
+    memories_[u]->set_fill(frame_dram ? frame_dram->fill(static_cast<std::uint32_t>(u)) : nullptr);
+    timed[u].cache = memories_[u]->is_cache();
   }
-  out.refit_cycles = out.refit_nodes * static_cast<std::uint64_t>(arch_.gpp.cycles_per_node);
-  g += out.refit_cycles;  // the GPP refits the trees before it writes the registers (Gpp::render_frame)
-  for (std::size_t u = 0; u < units; ++u)
-    g = transfer(g, assignment_[u].size() * Bytes<T>::sphere_config + regs[u].top.size() * Bytes<T>::top_node);
-  const CameraRays camera(cmd.camera, cmd.width, cmd.height);
-  const Shader<T> shader(scene_, setup);
-  // Caches and pipelines time each visit: they need the records' detail.
-  const bool caches = std::find(cached_.begin(), cached_.end(), 1) != cached_.end();
-  const bool pipelined = arch_.iu.model == IuModel::pipelined;
-  trace_functional(frame_, geom_, regs, camera, shader, arch_, cmd.width, cmd.height, caches || pipelined);
-  const FunctionalFrame<T>& f = frame_;
 
-  const std::size_t pixels = static_cast<std::size_t>(cmd.width) * cmd.height;
+  const auto& config = plan_.configure(cmd);
+  out.refit_nodes = config.refit_nodes;
+  out.refit_cycles = config.refit_cycles;
+  out.built_nodes = config.built_nodes;
+  g += out.refit_cycles;  // the GPP refits the trees before it writes the registers
+  for (std::size_t u = 0; u < units; ++u) g = transfer(g, config.bytes[u]);
+  plan_.trace(frame_, cmd, false);
+  const FunctionalFrame<T>& f = frame_;
+  const auto& regs = plan_.registers();
+
   std::vector<Cycles> last_pop;  // per ray in issue order: when the last FIFO popped it (FIFO room)
   last_pop.reserve(f.ray_count());
   std::vector<Cycles> unit_free(units, 0);
   // Each frame's time starts at 0 here, and every unit is idle when a frame starts.
-  if (pipelined) pipes_.assign(units, PipelinedUnitTiming(pipeline_config(arch_, Bytes<T>::triangle(arch_.kernel))));
+  const bool pipelined = arch_.iu.model == IuModel::pipelined;
+  if (pipelined) pipes_.assign(units, PipelinedUnitTiming(pipeline_config(arch_)));
   fifo_peak_.resize(units, 0);
-  // Per unit: pop times of rays still queued at the latest push (FIFO occupancy in time).
-  // A unit pops in push order, so they only grow: a queue kept as a vector and a head.
-  struct PopTimes {
-    std::vector<Cycles> t;
-    std::size_t head = 0;
-    std::size_t occupancy_after_push(Cycles at, Cycles pop) {  // rays it holds once this one is in
-      while (head < t.size() && t[head] <= at) ++head;
-      if (head == t.size()) t.clear(), head = 0;
-      else if (head >= 1024 && 2 * head >= t.size()) t.erase(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(head)), head = 0;
-      t.push_back(pop);
-      return t.size() - head;
-    }
-  };
   std::vector<PopTimes> queued(units);
   std::uint64_t issued = 0;  // every unit takes every ray
-  std::priority_queue<Completion, std::vector<Completion>, std::greater<Completion>> completed;
-  std::deque<std::uint32_t> shadow_queue;
+  GppWork<T, Cycles> work(f);
   const unsigned depth = static_cast<unsigned>(arch_.fifo_depth);
 
-  // A ray through unit u's cache, visit by visit (IntersectionUnit::trace_through_cache);
-  // returns when it ends. The cache's stall is counted in out.units[u].memory.
-  VisitStream stream;
-  auto entered = [&](std::uint32_t u, const UnitRayWork* w) { return f.visits_of(u, f.units[u].index(w)).size() > 0; };
-  auto through_cache = [&](std::uint32_t u, const RayRecord<T>& r, const UnitRayWork& w, Cycles t) {
-    auto fetch = [&](std::uint64_t, Cycles q) -> Cycles {
-      if (fill_over_bus) q = transfer(q, static_cast<std::uint64_t>(cc.line_bytes));
-      return channels[u / per_channel].reserve(q, line_transfer) + static_cast<Cycles>(arch_.memory.dram.latency_cycles);
-    };
-    const UnitTrace<T>& ut = f.units[u];
-    const std::uint32_t i = ut.index(&w);
-    std::uint32_t spheres = 0, nodes = 0;
-    for (const VisitWork& v : f.visits_of(u, i)) {
-      t += std::uint64_t{v.nodes_before} * f.node_cost + std::uint64_t{v.spheres_before} * f.sphere_cost;
-      nodes += v.nodes_before;
-      spheres += v.spheres_before;
-      const WorkCounts again = visit_stream(geom_, regs[u], r.ray, r.kind, v.entry, at, stream);
-      t = time_visit(visit_costs(arch_, again), stream, t, caches_[u], windows_[u], out.units[u].memory, fetch,
-                     [](int, std::uint64_t) {});
-    }
-    return t + std::uint64_t{f.node_tests_of(u, i) - nodes} * f.node_cost +
-           std::uint64_t{f.sphere_tests_of(u, i) - spheres} * f.sphere_cost;
-  };
+  // Rays through caches, and pipelines, read their visits through the unit's memory model.
+  const GeometryAddresses<T> addresses(geom_);
+  std::vector<CachedVisits<T>> cached;
+  cached.reserve(units);
+  for (std::size_t u = 0; u < units; ++u) cached.push_back({geom_, regs[u], addresses, arch_, {}, 0});
+  PipelineRayBuilder<T> rays(geom_, arch_);
+  DirectReader reader;
+  auto no_state = [](UnitState, Cycle) {};
+  auto no_phase = [](UnitState, Cycle, Cycle) {};
+  const Cycle transform = arch_.kernel_costs().transform;
 
   // Issue ray `id`: the GPP generates and writes it; every unit takes it in FIFO order.
+  const bool caches = plan_.any_cached();
   const bool simple = !pipelined && !shared && !caches;
   std::vector<Cycles> miss_cycles(units);  // a ray that enters none of the unit's spheres
   for (std::uint32_t u = 0; u < units; ++u) miss_cycles[u] = f.cycles(nullptr, u);
@@ -189,7 +188,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     // Every later request is at or after g (the GPP's time never decreases, and a unit
     // answers after the ray arrived): grants that ended by then can no longer matter.
     bus.forget_before(g);
-    for (Calendar<Cycles>& c : channels) c.forget_before(g);
+    if (frame_dram) frame_dram->forget_before(g);
     g = transfer(g, Bytes<T>::ray_bytes(arch_.top_tree()));
     const Cycles avail = g;
     const RayKind kind = f.rays[id].kind;
@@ -210,27 +209,39 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
         popped = std::max(popped, start);
       }
       last_pop.push_back(popped);
-      completed.push({done_all, id});
+      work.answered(done_all, id);
       return;
     }
     for (std::uint32_t u = 0; u < units; ++u) {
-      UnitRun& ur = out.units[u];
       const UnitRayWork* w = f.find(id, u);
+      reader.memory = memories_[u].get();
       Cycles start, done;
       if (pipelined) {
         PipelinedUnitTiming& p = pipes_[u];
         start = std::max(static_cast<Cycles>(p.ready()), avail);
-        const auto rv = f.ray_visits(w, u);
-        const auto k = p.take(static_cast<Cycle>(start), static_cast<Cycle>(avail), rv.sphere_tests, rv.visits.first,
-                              rv.visits.size());
+        memories_[u]->forget_before(static_cast<Cycle>(start));
+        const auto k = p.take(static_cast<Cycle>(start), static_cast<Cycle>(avail), rays.build(f, u, w, id, regs[u]), reader);
         done = transfer(static_cast<Cycles>(k.done), answer);
         p.retire(k.handle, k.done, static_cast<Cycle>(done));
       } else {
         start = std::max(unit_free[u], avail);
-        const Cycles end = cached_[u] && w && entered(u, w) ? through_cache(u, f.rays[id], *w, start)
-                                                                    : start + f.cycles(w, u);
+        const bool through_cache = timed[u].cache;
+        if (through_cache) memories_[u]->forget_before(static_cast<Cycle>(start));
+        // On-chip memory: the trace holds the ray's cycles. Through a cache: visit by visit.
+        const Cycles end = !through_cache ? start + f.cycles(w, u)
+                                          : static_cast<Cycles>(serial_ray(
+                                                f, u, w, static_cast<Cycle>(start), transform, true,
+                                                [&](const VisitWork& v, Cycle t) {
+                                                  return cached_visit(
+                                                      cached[u], f.rays[id], v, t,
+                                                      [&](const VisitStream& s, Cycle r, BurstConsumer& c) {
+                                                        return reader.read(s, r, c);
+                                                      },
+                                                      no_state);
+                                                },
+                                                no_phase));
         done = transfer(end, answer);
-        ur.cycles.stall += done - end;  // the bus; busy cycles are the trace's (below)
+        timed[u].bus_stall += done - end;
         unit_free[u] = done;
       }
       fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], queued[u].occupancy_after_push(avail, start));
@@ -238,58 +249,35 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
       popped = std::max(popped, start);
     }
     last_pop.push_back(popped);
-    completed.push({done_all, id});
+    work.answered(done_all, id);
   };
 
-  std::size_t next_pixel = 0;
+  // The GPP's work in its order (GppWork). The analytic level decides to write the next ray
+  // as soon as the GPP is free, before it knows when the FIFOs have room (issue() waits for
+  // it); the SystemC GPP knows, and handles an answer due meanwhile first.
+  constexpr Cycles never = ~Cycles{0};
   for (;;) {
-    if (!completed.empty() && completed.top().at <= g) {
-      const std::uint32_t id = completed.top().ray;
-      completed.pop();
-      const RayRecord<T>& r = f.rays[id];
-      if (r.kind == RayKind::primary && f.image.object[r.pixel] != kNone) {
-        g += arch_.gpp.cycles_per_hit;
-        for (std::uint32_t s = id + 1; s < f.pixel_rays[r.pixel + 1]; ++s) shadow_queue.push_back(s);
-      }
-      continue;
+    const auto next = work.next(g, work.has_ray() ? g : never, never, work.due(never) == never);
+    if (next == GppWork<T, Cycles>::Next::done) break;
+    if (next == GppWork<T, Cycles>::Next::retire) {
+      if (work.retire().second) g += arch_.gpp.cycles_per_hit;
+    } else if (next == GppWork<T, Cycles>::Next::issue) {
+      issue(work.take_ray());
+    } else {
+      g = work.due(never);  // the GPP waits for the next answer
     }
-    if (!shadow_queue.empty()) {
-      const std::uint32_t id = shadow_queue.front();
-      shadow_queue.pop_front();
-      issue(id);
-      continue;
-    }
-    if (next_pixel < pixels) {
-      issue(f.pixel_rays[next_pixel++]);
-      continue;
-    }
-    if (completed.empty()) break;
-    g = completed.top().at;  // the GPP waits for the next answer
   }
   out.makespan = g;
   *cmd.image = f.image;
   out.per_sphere = f.per_sphere;
   for (std::size_t u = 0; u < units; ++u) {
-    out.units[u].fifo_peak = fifo_peak_[u];
-    out.units[u].rays = out.units[u].fifo_pushes = out.units[u].fifo_pops = issued;
-    if (pipelined) {  // its stages work side by side: each one's issue cycles, and the unit's stalls
-      out.units[u].pipeline = pipes_[u].stats();
-      out.units[u].cycles = pipelined_cycles(pipes_[u].stats());
-      out.units[u].memory.stall = pipes_[u].stats().stage[2].memory;
-    } else {
-      const std::uint64_t bus_stall = out.units[u].cycles.stall;
-      out.units[u].cycles = f.unit_cycles[u];
-      if (out.units[u].cache) out.units[u].cycles.stall = out.units[u].memory.stall;  // the cache's, not on-chip memory's
-      else out.units[u].memory.stall = f.unit_cycles[u].stall;
-      out.units[u].cycles.stall += bus_stall;
-    }
-    for (int k = 0; k < kRayKinds; ++k) {
-      out.units[u].node_tests[k] = f.unit_node_tests[u][k];
-      for (std::uint32_t s : assignment_[u]) {
-        const WorkCounts& w = f.per_sphere[k][s];
-        out.units[u].memory_bytes += w.tri_tests() * Bytes<T>::triangle(arch_.kernel) + w.box_tests * Bytes<T>::node;
-      }
-    }
+    UnitTimed& t = timed[u];
+    t.rays = t.fifo_pushes = t.fifo_pops = issued;
+    t.fifo_peak = fifo_peak_[u];
+    t.memory = memories_[u]->counts();
+    t.cache_stall = cached[u].stall;
+    if (pipelined) t.pipeline = pipes_[u].stats();
+    out.units[u] = unit_run(f, static_cast<std::uint32_t>(u), plan_.assignment()[u], geom_, arch_, t);
   }
   return out;
 }

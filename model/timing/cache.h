@@ -15,19 +15,11 @@
 // the unit recomputes the visit's walk when it times it (visit_stream.h), which costs the
 // visit's functional work a second time, only for units whose memory is a cache.
 //
-// Timing of a visit (time_visit), the latency model's (memory_timing.h) with lines: a burst
-// is requested when the sphere test hits (the first) or when the previous test ends
-// (dependent fetches), and every line it covers is looked up at that time. A hit is
-// there as in on-chip memory (ideal: at once; latency: latency + the burst's streaming); a
-// line still being filled by an earlier miss is there when that fill arrives. A miss
-// allocates the line (evicting one of its set: lru, fifo or random) and asks DRAM for it
-// (fetch), at most `misses_outstanding` at a time per unit: a further miss waits for the
-// oldest to arrive. A test starts when the unit is free and every line of its item is
-// there; the unit stalls otherwise.
+// Timing: object_memory_model.h (when each line a visit reads is there) and the units'
+// consumers of it (serial_unit_timing.h, pipeline_timing.h).
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/memory_timing.h"
 #include "ref/bvh_traverse.h"
 
 #include <algorithm>
@@ -91,9 +83,19 @@ struct VisitStream {
     std::uint32_t items = 0, item_bytes = 0;
     bool node = false;  // a BVH node (box test), else triangles
   };
+  std::uint32_t sphere = 0xFFFFFFFFu;   // whose geometry
   std::vector<std::uint8_t> stages;      // per item: a triangle's exit stage, or kLogNode
   std::vector<std::uint32_t> node_ids;   // BVH: nodes in walk order (scratch)
   std::vector<Burst> bursts;
+  // A pipelined unit's traversal stack (pipeline_timing.h): per burst the spills and fills
+  // before its request, and the visit's pushes, spills and fills.
+  std::vector<std::uint8_t> stack_ops;
+  std::uint32_t pushes = 0, spills = 0, fills = 0;
+  std::uint64_t bytes() const {
+    std::uint64_t b = 0;
+    for (const Burst& x : bursts) b += std::uint64_t{x.items} * x.item_bytes;
+    return b;
+  }
 };
 
 struct CacheCounts {
@@ -106,76 +108,5 @@ struct CacheCounts {
     return *this;
   }
 };
-
-// How the unit works through a visit: StreamCosts (memory_timing.h) for the on-chip part,
-// with `latency_model` false for an ideal on-chip memory.
-struct VisitCosts {
-  StreamCosts stream;
-  bool latency_model = false;
-};
-
-// Times one visit that starts (its sphere test hit) at `start`. fetch(line, t) sends a
-// miss at t and returns when the line arrives; state(code, t) reports what the unit does
-// from t + lead on (UnitState codes: box 5, primitive 3, stall 4) for the waveform.
-// Returns when the visit ends; its stall cycles are added to counts.
-template <typename Fetch, typename State>
-std::uint64_t time_visit(const VisitCosts& c, const VisitStream& v, std::uint64_t start, Cache& cache,
-                         MissWindow& window, CacheCounts& counts, Fetch&& fetch, State&& state) {
-  const StreamCosts& s = c.stream;
-  const std::uint64_t line_bytes = cache.line_bytes();
-  std::uint64_t t = start + s.lead, work = s.lead;
-  std::size_t item = 0;
-  int last_state = -1;
-  auto report = [&](int code, std::uint64_t at) {
-    if (code != last_state) state(code, at);
-    last_state = code;
-  };
-  for (std::size_t b = 0; b < v.bursts.size(); ++b) {
-    const VisitStream::Burst& burst = v.bursts[b];
-    const std::uint64_t request = b == 0 ? start : t;
-    std::uint64_t line = ~std::uint64_t{0}, line_ready = 0;  // the last line looked up
-    for (std::uint32_t j = 0; j < burst.items; ++j, ++item) {
-      const std::uint64_t address = burst.address + std::uint64_t{j} * burst.item_bytes;
-      std::uint64_t arrive = request;
-      if (c.latency_model)
-        arrive += s.latency + ((j + 1) * std::uint64_t{burst.item_bytes} + s.bytes_per_cycle - 1) / s.bytes_per_cycle;
-      const std::uint64_t last = (address + burst.item_bytes - 1) / line_bytes;
-      for (std::uint64_t l = address / line_bytes; l <= last; ++l) {
-        if (l == line) {
-          arrive = std::max(arrive, line_ready);
-          continue;
-        }
-        bool hit = false;
-        std::uint64_t* slot = cache.access(l, hit);
-        std::uint64_t ready;
-        if (hit) {
-          ++counts.hits;
-          ready = std::max(*slot, request);
-        } else {
-          ++counts.misses;
-          counts.dram_bytes += line_bytes;
-          ready = fetch(l, window.slot(request));
-          window.sent(ready);
-          *slot = ready;
-        }
-        line = l;
-        line_ready = ready;
-        arrive = std::max(arrive, ready);
-      }
-      const std::uint8_t stage = v.stages[item];
-      const bool node = stage == kLogNode;
-      if (arrive > t) {
-        report(4, t);
-        t = arrive;
-      }
-      report(node ? 5 : 3, t);
-      const std::uint64_t cost = node ? s.box : s.triangle[stage];
-      t += cost;
-      work += cost;
-    }
-  }
-  counts.stall += t - start - work;
-  return t;
-}
 
 }  // namespace oprt::hw

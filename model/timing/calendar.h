@@ -1,4 +1,5 @@
-// The shared bus's arbiter: a calendar of granted intervals. A request for `length` at time
+// The shared bus's arbiter (and a DRAM channel's, and a pipelined unit's issue slots): a
+// calendar of granted intervals. A request for `length` at time
 // `request` is granted the first gap at or after `request` long enough to hold it. Requests
 // in time order reduce to first come, first served; requests out of time order (temporal
 // decoupling, the analytic level) are slotted into the gap where they belong instead of
@@ -7,7 +8,7 @@
 
 #include <algorithm>
 #include <iterator>
-#include <map>
+#include <vector>
 
 namespace oprt::hw {
 
@@ -16,25 +17,52 @@ class Calendar {
  public:
   // Returns the end of the granted interval.
   Time reserve(Time request, Time length, Time* start_out = nullptr) {
+    // The first interval that ends after the request; every gap before it is behind us.
+    auto it = std::upper_bound(granted_.begin() + static_cast<std::ptrdiff_t>(head_), granted_.end(), request,
+                               [](const Time& t, const Interval& g) { return t < g.end; });
     Time start = request;
-    auto it = granted_.upper_bound(start);
-    if (it != granted_.begin()) {
-      auto prev = std::prev(it);
-      if (prev->second > start) start = prev->second;
-    }
-    for (; it != granted_.end() && it->first < start + length; ++it) start = std::max(start, it->second);
-    if (length > Time{}) granted_.emplace(start, start + length);
+    for (; it != granted_.end() && it->start < start + length; ++it) start = std::max(start, it->end);
     if (start_out) *start_out = start;
-    return start + length;
+    const Time end = start + length;
+    if (!(length > Time{})) return end;
+    // `it` is the first interval starting at or after `end`; the one before it, if any, ends
+    // at or before `start`. Join the new one with a neighbour it touches: requests mostly
+    // come in time order and fill the calendar back to back, so it stays a few intervals long.
+    const bool joins_before = it != granted_.begin() + static_cast<std::ptrdiff_t>(head_) && std::prev(it)->end == start;
+    const bool joins_after = it != granted_.end() && it->start == end;
+    if (joins_before && joins_after) {
+      std::prev(it)->end = it->end;
+      granted_.erase(it);
+    } else if (joins_before) {
+      std::prev(it)->end = end;
+    } else if (joins_after) {
+      it->start = start;
+    } else {
+      granted_.insert(it, Interval{start, end});
+    }
+    return end;
   }
   // Forget intervals that ended at or before `t` (no request can come for earlier times).
   void forget_before(Time t) {
-    while (!granted_.empty() && granted_.begin()->second <= t) granted_.erase(granted_.begin());
+    while (head_ < granted_.size() && !(t < granted_[head_].end)) ++head_;
+    if (head_ > 64 && 2 * head_ > granted_.size()) {
+      granted_.erase(granted_.begin(), granted_.begin() + static_cast<std::ptrdiff_t>(head_));
+      head_ = 0;
+    }
   }
-  void clear() { granted_.clear(); }
+  void clear() {
+    granted_.clear();
+    head_ = 0;
+  }
+  // Intervals booked (after joining neighbours), for tests.
+  std::size_t intervals() const { return granted_.size() - head_; }
 
  private:
-  std::map<Time, Time> granted_;  // start -> end, disjoint
+  struct Interval {
+    Time start, end;
+  };
+  std::vector<Interval> granted_;  // disjoint, in time order, from head_ on
+  std::size_t head_ = 0;
 };
 
 // The naive arbiter: one time, when the bus is next free; a request is granted at

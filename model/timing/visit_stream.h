@@ -56,6 +56,7 @@ WorkCounts visit_stream(const SceneGeometry<T>& g, const IuRegisters<T>& regs, c
   const std::uint32_t s = regs.sphere[entry];
   const Ray<T> local = regs.to_local[entry].ray(ray);
   WorkCounts w;
+  out.sphere = s;
   out.bursts.clear();
   if (g.has_bvh()) {
     if (kind == RayKind::primary) nearest_in_bvh(g, s, local, w, &out.stages, &out.node_ids);
@@ -88,20 +89,6 @@ WorkCounts visit_stream(const SceneGeometry<T>& g, const IuRegisters<T>& regs, c
     out.bursts.push_back({at.triangle(g.first[s]), static_cast<std::uint32_t>(out.stages.size()),
                           static_cast<std::uint32_t>(at.triangle_bytes), false});
   return w;
-}
-
-// The unit's costs for timing a visit through its cache; `lead` is the visit's: the
-// transform, and the box set-up if it walks a BVH (WorkCounts::box_setups).
-inline VisitCosts visit_costs(const Arch& a, const WorkCounts& w) {
-  VisitCosts c;
-  const KernelCosts& k = a.kernel_costs();
-  c.latency_model = a.memory.model == MemoryModel::latency;
-  c.stream.latency = static_cast<std::uint32_t>(a.memory.latency_cycles);
-  c.stream.bytes_per_cycle = static_cast<std::uint32_t>(a.memory.bytes_per_cycle);
-  c.stream.lead = k.transform + (w.box_setups ? a.costs.box_setup : 0);
-  c.stream.triangle = k.tri_stage;
-  c.stream.box = a.costs.box;
-  return c;
 }
 
 }  // namespace oprt::hw

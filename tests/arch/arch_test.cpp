@@ -144,15 +144,20 @@ TEST_CASE("arch: time strings", "[arch]") {
   CHECK_THROWS_AS(parse_time_ns("ns", "q"), InputError);
 }
 
-TEST_CASE("arch: the IU section: serial by default, pipelined with its queues, units and latencies", "[arch][pipelined]") {
+TEST_CASE("arch: the IU section: serial by default, pipelined with its units, stacks and latencies", "[arch][pipelined]") {
   const Arch d = parse(R"({"format": "oprt-arch/1"})");
   CHECK(d.iu.model == IuModel::serial);
   CHECK(to_json(d)["iu"]["model"] == "serial");
-  const Arch a = parse(R"({"format": "oprt-arch/1", "iu": {"model": "pipelined", "rays_in_flight": 5, "queue_depth": 0,
-    "fp_latency": {"add": 3, "multiply": 4}, "sphere": {"adders": 2}, "triangle": {"adders": 6, "multipliers": 7}}})");
+  const Arch a = parse(R"({"format": "oprt-arch/1", "iu": {"model": "pipelined", "rays_in_flight": 5,
+    "stack": {"depth": 3, "overflow_cycles": 25}, "fp_latency": {"add": 3, "multiply": 4}, "sphere": {"adders": 2},
+    "box": {"multipliers": 5}, "node": {"adders": 4}, "triangle": {"adders": 6, "multipliers": 7}}})");
   CHECK(a.iu.model == IuModel::pipelined);
   CHECK(a.iu.rays_in_flight == 5);
-  CHECK(a.iu.queue_depth == 0);
+  CHECK(a.iu.stack_depth == 3);
+  CHECK(a.iu.stack_overflow_cycles == 25);
+  CHECK(a.iu.box.multipliers == 5);
+  CHECK(a.iu.box.adders == 0);
+  CHECK(a.iu.node.adders == 4);
   CHECK(a.iu.add_latency == 3);
   CHECK(a.iu.multiply_latency == 4);
   CHECK(a.iu.sphere.adders == 2);
@@ -161,12 +166,17 @@ TEST_CASE("arch: the IU section: serial by default, pipelined with its queues, u
   CHECK(to_json(a)["iu"]["fp_latency"]["multiply"] == 4);
   const nlohmann::json round_trip = {{"format", "oprt-arch/1"}, {"iu", to_json(a)["iu"]}};  // what stats.json records
   CHECK(arch_from_json(round_trip, "x").iu.triangle.adders == 6);
+  CHECK(arch_from_json(round_trip, "x").iu.stack_depth == 3);
+  CHECK(arch_from_json(round_trip, "x").iu.box.multipliers == 5);
   expect_error(R"({"format": "oprt-arch/1", "iu": {"model": "vliw"}})", "/iu/model", "unknown value");
   expect_error(R"({"format": "oprt-arch/1", "iu": {"rays_in_flight": 0}})", "/iu/rays_in_flight", "out of range");
   expect_error(R"({"format": "oprt-arch/1", "iu": {"fp_latency": {"divide": 9}}})", "/iu/fp_latency/divide", "unknown key");
   expect_error(R"({"format": "oprt-arch/1", "iu": {"transform": {"adders": -1}}})", "/iu/transform/adders", "out of range");
-  Arch bvh = parse(R"({"format": "oprt-arch/1", "accel": "bvh", "iu": {"model": "pipelined"}})");
-  CHECK_THROWS_AS(check_arch(bvh), InputError);
-  bvh.iu.model = IuModel::serial;
-  CHECK_NOTHROW(check_arch(bvh));
+  expect_error(R"({"format": "oprt-arch/1", "iu": {"stack": {"depth": 0}}})", "/iu/stack/depth", "out of range");
+  // The queues between units of the pipeline before it picked among its rays in flight.
+  expect_error(R"({"format": "oprt-arch/1", "iu": {"queue_depth": 4}})", "/iu/queue_depth", "rays_in_flight");
+  // Every combination composes.
+  const Arch all = parse(R"({"format": "oprt-arch/1", "accel": "bvh", "top": "bvh", "memory": {"sram_bytes": 16384},
+    "iu": {"model": "pipelined"}})");
+  CHECK_NOTHROW(check_arch(all));
 }

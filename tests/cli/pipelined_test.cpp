@@ -50,12 +50,13 @@ TEST_CASE("cli: both IU models render the reference image at at and lt; pipeline
 TEST_CASE("cli: pipelined units running ahead report exactly what units waiting out every ray report",
           "[cli][pipelined][ahead]") {
   const fs::path d = temp_dir("pipelined_ahead");
-  // Few rays in flight and short queues, so that queues fill, units freeze and rays wait
-  // for slots; memory latency so that the triangle unit waits for data.
-  const std::string body = R"("format": "oprt-arch/1", "ius": 6,
+  // Few rays in flight, so that rays wait for slots; memory latency so that rays wait for
+  // data; a BVH inside the spheres with a tree over them and a small stack, so that every
+  // unit of the pipeline has work and the stack overflows.
+  const std::string body = R"("format": "oprt-arch/1", "ius": 6, "accel": "bvh", "top": "bvh", "subdivide": 2,
       "memory": {"model": "latency", "latency_cycles": 20, "bytes_per_cycle": 16},
       "gpp": {"cycles_per_ray": 3, "cycles_per_hit": 40},
-      "iu": {"model": "pipelined", "queue_depth": 2, "rays_in_flight": 3})";
+      "iu": {"model": "pipelined", "rays_in_flight": 3, "stack": {"depth": 2}})";
   for (const std::string mode : {"ahead", "sync"}) {
     const std::string arch =
         write_arch(d, mode, "{" + body + (mode == "sync" ? ", \"sync_every_ray\": true" : "") + "}");
@@ -75,14 +76,16 @@ TEST_CASE("cli: pipelined units running ahead report exactly what units waiting 
   const auto& u = a["frames"][0]["ius"][0];
   CHECK(u["fifo"]["peak"].get<int>() > 3);
   CHECK(u["fifo"]["pushes"] == u["fifo"]["pops"]);
-  CHECK(u["pipeline"]["stages"]["sphere"]["stall_queue_full"].get<int>() > 0);
-  CHECK(u["pipeline"]["stages"]["triangle"]["stall_memory"].get<int>() > 0);
+  CHECK(u["pipeline"]["slot_wait_cycles"].get<int>() > 0);
+  CHECK(u["pipeline"]["memory_wait_cycles"].get<int>() > 0);
+  CHECK(u["pipeline"]["stack"]["spills"].get<int>() > 0);
+  for (const char* unit : {"node", "sphere", "transform", "box", "triangle"}) CHECK(u["pipeline"]["stages"][unit]["ops"].get<int>() > 0);
 }
 
 TEST_CASE("cli: analytic times pipelined units exactly as at under the ideal architecture", "[cli][pipelined][analytic]") {
   const fs::path d = temp_dir("pipelined_analytic");
   const std::string arch = write_arch(d, "arch", R"({"format": "oprt-arch/1", "ius": 9,
-      "iu": {"model": "pipelined", "queue_depth": 1, "rays_in_flight": 2, "triangle": {"adders": 6, "multipliers": 7}}})");
+      "iu": {"model": "pipelined", "rays_in_flight": 2, "triangle": {"adders": 6, "multipliers": 7}}})");
   const std::string common = "render " + scene("paper_room.json") + " --arch " + arch + " --frames 7 --resolution 28x28 --no-progress";
   REQUIRE(run_oprt(common + " --level at --out " + (d / "at").string()).status == 0);
   REQUIRE(run_oprt(common + " --level analytic --out " + (d / "an").string()).status == 0);
@@ -96,14 +99,16 @@ TEST_CASE("cli: analytic times pipelined units exactly as at under the ideal arc
   CHECK(a["energy_j"] == b["energy_j"]);
   // 18 adder ops on 6 adders, 21 multiplies on 7 multipliers: a triangle every 3 cycles.
   CHECK(stats(d / "at")["iu_stages"]["triangle"]["ii"] == 3);
-  CHECK(a["ius"][0]["pipeline"]["stages"]["triangle"]["busy"] == 3 * a["ius"][0]["pipeline"]["triangle_tests"].get<int>());
+  CHECK(a["ius"][0]["pipeline"]["stages"]["triangle"]["busy"] == 3 * a["ius"][0]["pipeline"]["stages"]["triangle"]["ops"].get<int>());
+  CHECK(a["ius"][0]["pipeline"]["stages"]["triangle"]["ops"] ==
+        a["ius"][0]["work"]["primary"]["triangle_tests"].get<int>() + a["ius"][0]["work"]["shadow"]["triangle_tests"].get<int>());
 }
 
 TEST_CASE("cli: a pipelined unit's stages add up to the makespan, and area and energy come with their components",
           "[cli][pipelined][cost]") {
   const fs::path d = temp_dir("pipelined_stats");
   const std::string arch = write_arch(d, "arch", R"({"format": "oprt-arch/1", "ius": 4, "ray_fifo_depth": 8,
-      "bus": {"model": "shared"}, "iu": {"model": "pipelined", "queue_depth": 2}})");
+      "bus": {"model": "shared"}, "iu": {"model": "pipelined"}})");
   REQUIRE(run_oprt("render " + scene("paper_polygons.json") + " --arch " + arch +
                    " --frames 0 --resolution 24x24 --no-progress --out " + d.string())
               .status == 0);
@@ -114,13 +119,12 @@ TEST_CASE("cli: a pipelined unit's stages add up to the makespan, and area and e
   double busy = 0;
   for (const auto& u : f["ius"]) {
     const auto& p = u["pipeline"];
+    CHECK(!p["stages"].contains("box"));   // no BVH: no box unit
+    CHECK(!p["stages"].contains("node"));  // no tree over the spheres: no node unit
     for (const char* stage : {"sphere", "transform", "triangle"}) {
       INFO(stage);
       const auto& st = p["stages"][stage];
-      std::uint64_t sum = st["busy"].get<std::uint64_t>() + st["stall_queue_full"].get<std::uint64_t>() +
-                          st["stall_queue_empty"].get<std::uint64_t>() + st["idle"].get<std::uint64_t>();
-      if (st.contains("stall_memory")) sum += st["stall_memory"].get<std::uint64_t>();
-      CHECK(sum == makespan);
+      CHECK(st["busy"].get<std::uint64_t>() + st["starved"].get<std::uint64_t>() + st["idle"].get<std::uint64_t>() == makespan);
     }
     // The unit's busy cycles are those in which it held a ray; idle the rest.
     CHECK(u["busy_cycles"] == p["occupied_cycles"]);
@@ -149,8 +153,10 @@ TEST_CASE("cli: a pipelined unit's stages add up to the makespan, and area and e
   CHECK(s["area_mm2"]["total"].get<double>() == Approx(total(s["area_mm2"])));
   for (const char* k : {"fp_adders", "fp_multipliers", "object_memories", "ray_fifos", "pipeline_buffers"})
     CHECK(s["area_mm2"][k].get<double>() > 0);
-  // 4 units of 12 + 15 + 18 adders (II 1 for each stage's graph).
+  // 4 units of 12 + 15 + 18 adders (II 1 for each stage's graph); no box or node unit.
   CHECK(s["area_mm2"]["fp_adders"].get<double>() == Approx(4 * 45 * 3311e-6));
+  CHECK(s["area_mm2"]["box_units"].get<double>() == 0);
+  CHECK(s["area_mm2"]["traversal_stacks"].get<double>() == 0);
   REQUIRE(f.contains("energy_j"));
   CHECK(f["energy_j"]["total"].get<double>() == Approx(total(f["energy_j"])));
   CHECK(f["energy_j"]["bus"].is_null());  // the 65 nm table has no wire energy
@@ -175,15 +181,10 @@ TEST_CASE("cli: bad IU and technology options end with a clear message and exit 
   const fs::path d = temp_dir("pipelined_bad");
   Result r = run_oprt("render " + scene("paper_room.json") + " --iu superscalar");
   CHECK(r.status == 2);
-  r = run_oprt("render " + scene("paper_room.json") + " --iu pipelined --accel bvh --out " + d.string());
+  r = run_oprt("render " + scene("paper_room.json") + " --arch " +
+               write_arch(d, "s", R"({"format": "oprt-arch/1", "iu": {"model": "pipelined", "stack": {"depth": 0}}})"));
   CHECK(r.status == 2);
-  CHECK(r.output.find("brute force") != std::string::npos);
-  r = run_oprt("render " + scene("paper_room.json") + " --iu pipelined --top bvh --out " + d.string());
-  CHECK(r.status == 2);
-  CHECK(r.output.find("iu.model pipelined with top bvh") != std::string::npos);
-  r = run_oprt("render " + scene("paper_room.json") + " --iu pipelined --sram 16K --out " + d.string());
-  CHECK(r.status == 2);
-  CHECK(r.output.find("iu.model pipelined with memory.sram_bytes") != std::string::npos);
+  CHECK(r.output.find("/iu/stack/depth") != std::string::npos);
   r = run_oprt("render " + scene("paper_room.json") + " --arch " +
                write_arch(d, "q", R"({"format": "oprt-arch/1", "iu": {"model": "pipelined", "rays_in_flight": 0}})"));
   CHECK(r.status == 2);
@@ -206,13 +207,13 @@ TEST_CASE("cli: a pipelined unit's stages are the `stage` signal group of its un
                    " --vcd " + (d / "t.vcd").string() + " --out " + d.string())
               .status == 0);
   const std::string vcd = bytes_of(d / "t.vcd");
-  // Unit 1's sphere, transform and triangle units, its two queues and its rays in flight;
-  // nothing of another unit, nor another group.
+  // Unit 1's sphere, transform and triangle units with their queues, its rays waiting for
+  // memory and its rays in flight; nothing of another unit, nor another group.
   std::size_t vars = 0;
   for (std::size_t at = vcd.find("$var "); at != std::string::npos; at = vcd.find("$var ", at + 1)) ++vars;
-  CHECK(vars == 6);
-  for (const char* name : {" sphere $end", " transform $end", " triangle $end", " transform_queue $end",
-                           " triangle_queue $end", " rays_in_flight $end"})
+  CHECK(vars == 8);
+  for (const char* name : {" sphere $end", " transform $end", " triangle $end", " sphere_queue $end", " transform_queue $end",
+                           " triangle_queue $end", " memory_wait $end", " rays_in_flight $end"})
     CHECK(vcd.find(name) != std::string::npos);
   CHECK(vcd.find("$scope module iu1 $end") != std::string::npos);
   CHECK(vcd.find("$scope module iu0 $end") == std::string::npos);

@@ -6,7 +6,8 @@
 #include "harness.h"
 #include "hw/bus.h"
 #include "hw/gpp.h"
-#include "hw/intersection_unit.h"
+#include "hw/extensions.h"
+#include "hw/serial_unit.h"
 #include "hw/object_memory.h"
 #include "hw/ray_fifo.h"
 #include "hw/watchdog.h"
@@ -26,7 +27,7 @@ struct Miswired : sc_module {
   hw::Bus bus;
   hw::RayFifo fifo0, fifo1;
   hw::ObjectMemory memory0, memory1;
-  hw::IntersectionUnit<float> iu0, iu1;
+  hw::SerialUnit<float> iu0, iu1;
   tlm_utils::simple_initiator_socket<Miswired> host{"host"};
   FrameImage image{8, 8};
   bool frame_done = false;
@@ -69,9 +70,8 @@ struct Miswired : sc_module {
 
   void send(hw::FrameCommand& cmd) {
     tlm::tlm_generic_payload p;
-    p.set_command(tlm::TLM_WRITE_COMMAND);
-    p.set_data_ptr(reinterpret_cast<unsigned char*>(&cmd));
-    p.set_data_length(1);
+    unsigned char bytes[1] = {};
+    hw::prepare<hw::FrameExtension>(p, tlm::TLM_WRITE_COMMAND, 0, bytes, 1).command = &cmd;
     sc_time d = SC_ZERO_TIME;
     host->b_transport(p, d);
   }

@@ -1,7 +1,11 @@
-// The object memory as a cache (timing/cache.h): replacement by hand-worked access sequences,
-// the miss window, and the timing of a visit through the cache worked out cycle by cycle;
-// with every line present, the on-chip memory's own timing (stream_stall) exactly.
+// The object memory as a cache (timing/cache.h, timing/object_memory_model.h): replacement
+// by hand-worked access sequences, the miss window, and the timing of a serial unit's visit
+// through the cache (timing/serial_unit_timing.h) worked out cycle by cycle; with every line
+// present, the on-chip memory's own timing (stream_stall) exactly.
 #include "timing/cache.h"
+#include "timing/memory_timing.h"
+#include "timing/object_memory_model.h"
+#include "timing/serial_unit_timing.h"
 
 #include <catch2/catch.hpp>
 
@@ -25,25 +29,48 @@ std::string pattern(CacheReplacement r, const std::vector<std::uint64_t>& lines)
 
 constexpr std::uint32_t kMoller[4] = {4, 14, 17, 22};
 
-VisitCosts ideal_costs(std::uint32_t lead) {
-  VisitCosts c;
-  c.stream.lead = lead;
-  c.stream.triangle = kMoller;
-  c.stream.box = 13;
-  c.stream.triangle_bytes = 48;
-  c.stream.node_bytes = 32;
-  return c;
-}
+VisitCosts costs(Cycle lead) { return {lead, kMoller, 13}; }
 
 // DRAM that answers every miss 50 cycles after it is sent, recording the sends.
-struct FixedDram {
-  std::vector<std::uint64_t> sent;
-  std::uint64_t operator()(std::uint64_t, std::uint64_t t) {
+struct FixedDram final : ObjectMemoryModel::Fill {
+  std::vector<Cycle> sent;
+  Cycle fetch(std::uint64_t, Cycle t) override {
     sent.push_back(t);
     return t + 50;
   }
 };
-auto no_state = [](int, std::uint64_t) {};
+
+// An object memory of `sram` bytes that is a cache (lines of 64 bytes, 4 ways), `misses`
+// in flight, its misses answered by `dram`; on-chip latency 10, 16 bytes per cycle if `latency`.
+struct CacheMemory {
+  Arch arch;
+  std::unique_ptr<ObjectMemoryModel> model;
+  CacheMemory(std::uint64_t sram, int misses, ObjectMemoryModel::Fill& dram, bool latency = false) {
+    arch.memory.sram_bytes = sram;
+    arch.memory.cache.misses_outstanding = misses;
+    arch.memory.model = latency ? MemoryModel::latency : MemoryModel::ideal;
+    arch.memory.latency_cycles = 10;
+    arch.memory.bytes_per_cycle = 16;
+    model = std::make_unique<ObjectMemoryModel>(arch, 0);
+    MemoryLoad l;
+    l.cache = true;
+    model->load(l);
+    model->set_fill(&dram);
+  }
+};
+
+// A serial unit's visit from `start` (its sphere hit) through memory m: its end and stall.
+struct Timed {
+  Cycle end, stall;
+};
+template <typename State>
+Timed serial_visit(ObjectMemoryModel& m, const VisitStream& v, Cycle start, Cycle lead, State&& state) {
+  const VisitCosts c = costs(lead);
+  SerialVisit<State> unit(c, start, state);
+  m.visit(v, start, unit);
+  return {unit.end(), unit.stall()};
+}
+auto no_state = [](UnitState, Cycle) {};
 }  // namespace
 
 TEST_CASE("cache: lru evicts the least recently used way of the set, fifo the first filled", "[cache]") {
@@ -90,32 +117,32 @@ TEST_CASE("cache: a brute-force visit through a cold cache, cycle by cycle", "[c
   v.stages = {3, 3, 3};
   v.bursts = {{0, 3, 48, false}};
   SECTION("four misses in flight: all three sent at once, at the sphere hit") {
-    Cache c(4096, 64, 4, CacheReplacement::lru, 1);
-    MissWindow w(4);
-    CacheCounts n;
     FixedDram dram;
+    CacheMemory m(4096, 4, dram);
     // triangle 0 waits for line 0 (19 -> 50), ends 72; 1 and 2 find their lines there.
-    CHECK(time_visit(ideal_costs(19), v, 0, c, w, n, dram, no_state) == 116);
-    CHECK(dram.sent == std::vector<std::uint64_t>{0, 0, 0});
-    CHECK(n.stall == 31);
+    const Timed t = serial_visit(*m.model, v, 0, 19, no_state);
+    CHECK(t.end == 116);
+    CHECK(dram.sent == std::vector<Cycle>{0, 0, 0});
+    CHECK(t.stall == 31);
+    const CacheCounts& n = m.model->counts();
     CHECK(n.misses == 3);
     CHECK(n.hits == 0);  // a line shared by consecutive triangles is looked up once
     CHECK(n.dram_bytes == 3 * 64);
     // Again from 200: every line is there, no stall: 200 + 19 + 3 x 22.
-    CHECK(time_visit(ideal_costs(19), v, 200, c, w, n, dram, no_state) == 285);
+    const Timed again = serial_visit(*m.model, v, 200, 19, no_state);
+    CHECK(again.end == 285);
     CHECK(n.hits == 3);
-    CHECK(n.stall == 31);
+    CHECK(again.stall == 0);
   }
   SECTION("one miss in flight: each line is sent when the previous one arrives") {
-    Cache c(4096, 64, 4, CacheReplacement::lru, 1);
-    MissWindow w(1);
-    CacheCounts n;
     FixedDram dram;
+    CacheMemory m(4096, 1, dram);
     // lines arrive at 50, 100, 150: triangle 0 19 -> 50 -> 72; 1 waits to 100 -> 122;
     // 2 waits to 150 -> 172.
-    CHECK(time_visit(ideal_costs(19), v, 0, c, w, n, dram, no_state) == 172);
-    CHECK(dram.sent == std::vector<std::uint64_t>{0, 50, 100});
-    CHECK(n.stall == 31 + 28 + 28);
+    const Timed t = serial_visit(*m.model, v, 0, 19, no_state);
+    CHECK(t.end == 172);
+    CHECK(dram.sent == std::vector<Cycle>{0, 50, 100});
+    CHECK(t.stall == 31 + 28 + 28);
   }
 }
 
@@ -125,18 +152,17 @@ TEST_CASE("cache: a BVH visit's node and leaf are dependent bursts through the c
   VisitStream v;
   v.stages = {kLogNode, 0, 3};
   v.bursts = {{4096, 1, 32, true}, {0, 2, 48, false}};
-  Cache c(4096, 64, 4, CacheReplacement::lru, 1);
-  MissWindow w(4);
-  CacheCounts n;
   FixedDram dram;
-  std::vector<std::pair<int, std::uint64_t>> states;
+  CacheMemory m(4096, 4, dram);
+  std::vector<std::pair<UnitState, Cycle>> states;
   // The node is sent at the hit (0), arrives at 50: stall 31 -> 50, box test to 63. Then
   // the leaf's lines are sent at 63, arrive at 113: stall, triangle 0 to 117, 1 to 139.
-  CHECK(time_visit(ideal_costs(31), v, 0, c, w, n, dram,
-                   [&](int s, std::uint64_t t) { states.emplace_back(s, t); }) == 139);
-  CHECK(dram.sent == std::vector<std::uint64_t>{0, 63, 63});
-  CHECK(n.stall == 19 + 50);
-  CHECK(states == std::vector<std::pair<int, std::uint64_t>>{{4, 31}, {5, 50}, {4, 63}, {3, 113}});
+  const Timed t = serial_visit(*m.model, v, 0, 31, [&](UnitState s, Cycle c) { states.emplace_back(s, c); });
+  CHECK(t.end == 139);
+  CHECK(dram.sent == std::vector<Cycle>{0, 63, 63});
+  CHECK(t.stall == 19 + 50);
+  CHECK(states == std::vector<std::pair<UnitState, Cycle>>{
+                      {UnitState::stall, 31}, {UnitState::box, 50}, {UnitState::stall, 63}, {UnitState::primitive, 113}});
 }
 
 TEST_CASE("cache: with every line present a visit takes what on-chip memory takes (stream_stall)", "[cache]") {
@@ -161,27 +187,29 @@ TEST_CASE("cache: with every line present a visit takes what on-chip memory take
           v.bursts.push_back({48 * (tri += 8 + rng() % 40), n, 48, false});
         }
       }
-      VisitCosts c = ideal_costs(bvh ? 31 : 19);
-      c.latency_model = latency;
-      c.stream.latency = 10;
-      c.stream.bytes_per_cycle = 16;
       // Warm the cache (large enough to keep everything), then time from far later.
-      Cache cache(1 << 22, 64, 4, CacheReplacement::lru, 1);
-      MissWindow w(4);
-      CacheCounts n;
       FixedDram dram;
-      time_visit(c, v, 0, cache, w, n, dram, no_state);
-      const std::uint64_t misses = n.misses;
-      n.stall = 0;
-      const std::uint64_t start = 1000000;
-      const std::uint64_t end = time_visit(c, v, start, cache, w, n, dram, no_state);
+      CacheMemory m(1 << 22, 4, dram, latency);
+      const Cycle lead = bvh ? 31 : 19;
+      serial_visit(*m.model, v, 0, lead, no_state);
+      const std::uint64_t misses = m.model->counts().misses;
+      const Cycle start = 1000000;
+      const Timed t = serial_visit(*m.model, v, start, lead, no_state);
       INFO("trial " << trial << (latency ? " latency" : " ideal"));
-      REQUIRE(n.misses == misses);  // the second time, no miss
-      const std::uint64_t expect = latency ? stream_stall(c.stream, v.stages.data(), static_cast<std::uint32_t>(v.stages.size())) : 0;
-      REQUIRE(n.stall == expect);
-      std::uint64_t work = c.stream.lead;
-      for (std::uint8_t s : v.stages) work += s == kLogNode ? c.stream.box : kMoller[s];
-      REQUIRE(end == start + work + expect);
+      REQUIRE(m.model->counts().misses == misses);  // the second time, no miss
+      StreamCosts onchip;
+      onchip.latency = 10;
+      onchip.bytes_per_cycle = 16;
+      onchip.triangle_bytes = 48;
+      onchip.node_bytes = 32;
+      onchip.lead = static_cast<std::uint32_t>(lead);
+      onchip.triangle = kMoller;
+      onchip.box = 13;
+      const std::uint64_t expect = latency ? stream_stall(onchip, v.stages.data(), static_cast<std::uint32_t>(v.stages.size())) : 0;
+      REQUIRE(static_cast<std::uint64_t>(t.stall) == expect);
+      std::uint64_t work = static_cast<std::uint64_t>(lead);
+      for (std::uint8_t s : v.stages) work += s == kLogNode ? 13 : kMoller[s];
+      REQUIRE(static_cast<std::uint64_t>(t.end) == static_cast<std::uint64_t>(start) + work + expect);
     }
   }
 }

@@ -1,0 +1,88 @@
+// What a frame measured, per unit and in all: the one place a unit's figures are made from
+// its work (the functional trace) and what the level timed. The SystemC testbench and the
+// analytic level both fill a FrameRun this way; the stats writer reads it.
+#pragma once
+
+#include "arch/arch.h"
+#include "timing/cache.h"
+#include "timing/functional_frame.h"
+#include "timing/pipeline_timing.h"
+#include "timing/unit_cycles.h"
+
+#include <array>
+#include <optional>
+#include <vector>
+
+namespace oprt::hw {
+
+struct UnitRun {
+  UnitCycles cycles;
+  std::uint64_t rays = 0;
+  std::uint64_t memory_bytes = 0;
+  std::uint64_t node_tests[kRayKinds] = {};  // --top bvh
+  bool cache = false;  // its spheres did not fit its object memory (memory.sram_bytes)
+  std::uint64_t assigned_bytes = 0;
+  CacheCounts memory;  // through the cache; stall: the memory's, whichever it is
+  std::uint64_t memory_load_bytes = 0;      // geometry loaded into its object memory this frame
+  std::uint64_t fifo_pushes = 0, fifo_pops = 0;
+  std::uint64_t fifo_peak = 0;              // most rays its FIFO held at once, over the run so far
+  std::optional<PipelineStats> pipeline;    // a pipelined unit's stages
+};
+
+struct FrameRun {
+  std::uint64_t makespan = 0;
+  std::uint64_t rays[kRayKinds] = {};
+  std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0, memory_load_bytes = 0;
+  std::uint64_t memory_load_cycles = 0;  // bus time of the geometry moved in (0 on an ideal bus)
+  std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;  // --top bvh: the GPP's refit (gpp_plan.h)
+  std::vector<UnitRun> units;
+  std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere], whichever unit did it
+};
+
+// What a level timed of one unit in a frame, beside the trace's work.
+struct UnitTimed {
+  std::uint64_t rays = 0;
+  std::uint64_t bus_stall = 0;  // a serial unit waiting for the bus to take its answers
+  bool cache = false;
+  CacheCounts memory;           // through a cache: lines hit and missed, bytes from DRAM
+  std::uint64_t cache_stall = 0;  // through a cache: its stall replaces the trace's (on-chip memory's)
+  std::optional<PipelineStats> pipeline;
+  std::uint64_t fifo_pushes = 0, fifo_pops = 0, fifo_peak = 0;
+  std::uint64_t memory_load_bytes = 0;
+};
+
+// Unit u's figures: busy cycles by activity from the trace (a pipelined unit: its stages'),
+// stalls from what was timed, bytes read from its spheres' work.
+template <typename T>
+UnitRun unit_run(const FunctionalFrame<T>& f, std::uint32_t u, const std::vector<std::uint32_t>& spheres,
+                 const SceneGeometry<T>& g, const Arch& a, const UnitTimed& t) {
+  UnitRun r;
+  r.cycles = f.unit_cycles[u];
+  r.cache = t.cache;
+  r.memory = t.memory;
+  if (t.pipeline) {  // its stages work side by side: each one's issue cycles, and the unit's stalls
+    r.cycles = pipelined_cycles(*t.pipeline);
+    r.memory.stall = t.pipeline->memory_wait;
+  } else {
+    if (t.cache) r.cycles.stall = t.cache_stall;  // the cache's, not on-chip memory's
+    r.memory.stall = r.cycles.stall;
+    r.cycles.stall += t.bus_stall;
+  }
+  r.pipeline = t.pipeline;
+  r.rays = t.rays;
+  r.fifo_pushes = t.fifo_pushes;
+  r.fifo_pops = t.fifo_pops;
+  r.fifo_peak = t.fifo_peak;
+  r.memory_load_bytes = t.memory_load_bytes;
+  r.assigned_bytes = assigned_bytes(g, spheres);
+  for (int k = 0; k < kRayKinds; ++k) {
+    r.node_tests[k] = f.unit_node_tests[u][k];
+    for (std::uint32_t s : spheres) {
+      const WorkCounts& w = f.per_sphere[k][s];
+      r.memory_bytes += w.tri_tests() * Bytes<T>::triangle(a.kernel) + w.box_tests * Bytes<T>::node;
+    }
+  }
+  return r;
+}
+
+}  // namespace oprt::hw
