@@ -190,3 +190,27 @@ TEST_CASE("cli: info prints the assignment's estimated fan-out and imbalance", "
     else CHECK(q.fanout < sa_n_fanout / 2);
   }
 }
+
+TEST_CASE("cli: spatial and feedback with a locality on a scene with deforming and hidden objects",
+          "[cli][balance][spatial]") {
+  // features.aff: 5 frames, triangles that move on their own (tpa) and an object with
+  // visibility keys; split by extent, then in 3. More units than some frames need.
+  const fs::path d = temp_dir("spatial_aff");
+  const std::string aff = std::string(OPRT_SOURCE_DIR) + "/tests/data/aff/features.aff";
+  REQUIRE(run_oprt("reference " + aff + " --subdivide 3 --out " + (d / "ref").string()).status == 0);
+  const std::string common = "render " + aff + " --subdivide 3 --ius 6 --no-progress";
+  for (const std::string run : {"spatial --level at", "spatial --locality 1 --level analytic",
+                                "feedback --locality 0.5 --level at", "feedback --locality 0.75 --level analytic"}) {
+    INFO(run);
+    const fs::path out = d / std::to_string(std::hash<std::string>{}(run));
+    REQUIRE(run_oprt(common + " --balance " + run + " --out " + out.string()).status == 0);
+    const auto s = stats(out);
+    REQUIRE(s["frames"].size() == 5);
+    for (int f = 0; f < 5; ++f) {
+      CHECK(image(out, f) == image(d / "ref", f));
+      const Assignment a = assignment_of(s["frames"][f]);
+      CHECK(a.is_partition(s["spheres"].get<std::size_t>()));
+      for (const auto& unit : a.unit) CHECK_FALSE(unit.empty());
+    }
+  }
+}
