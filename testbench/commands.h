@@ -24,7 +24,10 @@ struct CommonOptions {
   LoadOptions load;
 };
 
-int run_info(const CommonOptions& o);
+struct RenderOptions;
+// `arch`: the architecture options info takes (--arch, --ius, --balance, --locality,
+// --accel, --subdivide), resolved as render resolves them.
+int run_info(const CommonOptions& o, const RenderOptions& arch);
 int run_reference(const CommonOptions& o);
 // Prints the difference of IMAGE from REFERENCE as JSON.
 int run_compare(const std::string& image, const std::string& reference);

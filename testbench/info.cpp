@@ -1,10 +1,14 @@
 // oprt info: what the engine will hold for a scene.
+#include "balance/partition_quality.h"
+#include "balance/policy.h"
 #include "balance/spheres.h"
 #include "commands.h"
 #include "geom/bounding_sphere.h"
 #include "arch/cycle_schedule.h"
 #include "options.h"
+#include "policy_driver.h"
 #include "ref/frame_setup.h"
+#include "render.h"
 #include "scene/error.h"
 #include "scene/load.h"
 
@@ -13,7 +17,39 @@
 
 namespace oprt {
 
-int run_info(const CommonOptions& o) {
+namespace {
+
+// The assignment a render with this architecture starts from, and what it buys when rays go
+// only to the units whose bound they enter (balance/partition_quality.h).
+void print_assignment(const Arch& arch, const Scene& scene, const std::vector<SphereDef>& spheres) {
+  const SceneGeometry<float> g = build_geometry<float>(scene, spheres, arch.kernel, accel_named(arch.accel));
+  const SaNCosts costs = sa_n_costs(arch, g);
+  const std::size_t units = units_for(spheres.size(), static_cast<std::size_t>(arch.ius));
+  const Assignment a = initial_assignment(arch.balance, arch.locality, scene, spheres, units, costs);
+  const PartitionQuality q = partition_quality(a, sphere_world_boxes(scene, spheres, 0), sa_n_weights(scene, spheres, costs));
+  std::string policy = arch.balance;
+  const nlohmann::json resolved = to_json(arch);
+  if (resolved.contains("locality")) {
+    char f[32];
+    std::snprintf(f, sizeof f, ", locality %g", resolved["locality"].get<double>());
+    policy += f;
+  }
+  std::printf("\nassignment  %s: %zu spheres on %zu units, at frame 0%s\n", policy.c_str(), spheres.size(), units,
+              arch.balance == "feedback" || arch.balance == "view" ? " (re-balanced every frame after it)" : "");
+  std::printf("estimated   fan-out %.4f units per ray entering the scene's box (the units' box areas over its)\n",
+              q.fanout);
+  std::printf("estimated   imbalance %.4f (the largest unit's sa_n cost over the mean; accel %s)\n", q.imbalance,
+              arch.accel.c_str());
+  const double scene_area = q.scene_bound.surface_area();
+  std::printf("\n%6s %8s %14s %12s\n", "unit", "spheres", "sa_n cost", "box / scene");
+  for (std::size_t u = 0; u < units; ++u)
+    std::printf("%6zu %8zu %14.2f %12.4f\n", u, a.unit[u].size(), q.unit_load[u],
+                scene_area > 0 ? q.unit_bound[u].surface_area() / scene_area : 1.0);
+}
+
+}  // namespace
+
+int run_info(const CommonOptions& o, const RenderOptions& arch_options) {
   if (o.schedules) {
     for (const OpGraph* g : {&sphere_textbook_graph(), &sphere_stable_graph(), &transform_graph(), &moller_graph(),
                               &transform_watertight_graph(), &watertight_graph(), &box_setup_graph(),
@@ -28,15 +64,18 @@ int run_info(const CommonOptions& o) {
     if (o.scene.empty()) return 0;
   }
   if (o.scene.empty()) throw InputError("oprt info", "SCENE", "a scene file is required (or --schedules)");
-  const ObjectSplit split = object_split_named(o.split, o.scene);
+  RenderOptions ro = arch_options;
+  ro.split = o.split;
+  const Arch arch = resolve_arch(ro);
+  const ObjectSplit split = object_split_named(arch.split, o.scene);
   const Scene scene = load_scene(o.scene, load_options_for(o.load, o.max_object_triangles, split));
-  const auto spheres = make_spheres(scene, o.subdivide, SplitRule::balanced_san, split);
+  const auto spheres = make_spheres(scene, arch.subdivide, split_rule_named(arch.split_rule), split);
   std::printf("scene       %s\n", o.scene.c_str());
   std::printf("image       %dx%d, %d frame%s, %zu light%s\n", scene.width, scene.height, scene.frame_count,
               scene.frame_count == 1 ? "" : "s", scene.lights.size(), scene.lights.size() == 1 ? "" : "s");
   std::printf("triangles   %zu\n", scene.triangle_count());
   std::printf("objects     %zu\n", scene.objects.size());
-  std::printf("spheres     %zu (split %s, subdivide %d)\n", spheres.size(), to_string(split), o.subdivide);
+  std::printf("spheres     %zu (split %s, subdivide %d)\n", spheres.size(), to_string(split), arch.subdivide);
   for (const auto& n : scene.notes) std::printf("note        %s\n", n.c_str());
   // Radius in the object's units and in the world's (times the object's stretch at frame
   // 0); area and SA x N are the world's, as the balance estimates use them.
@@ -71,6 +110,7 @@ int run_info(const CommonOptions& o) {
   }
   std::printf("radii held by the units / minimal: local (float) at most %.9f, world at frame 0 at most %.9f\n",
               worst_local, worst_world);
+  if (!ro.arch_file.empty() || ro.ius || ro.balance || ro.locality) print_assignment(arch, scene, spheres);
   return 0;
 }
 

@@ -50,7 +50,15 @@ int main(int argc, char** argv) {
   auto* info = app.add_subcommand("info", "print the scene, its bounding spheres and their SA x N");
   info->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)");
   info->add_flag("--schedules", opt.schedules, "print the IU operations' cycle schedules");
-  info->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
+  RenderOptions info_arch;  // with any of --arch, --ius, --balance, --locality: the assignment too
+  info->add_option("--subdivide", info_arch.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
+  info->add_option("--arch", info_arch.arch_file, "architecture file (JSON, oprt-arch/1)");
+  info->add_option("--ius", info_arch.ius, "number of intersection units");
+  info->add_option("--balance", info_arch.balance, "paper | round_robin | sa_n | spatial | feedback | view (frame 0)")
+      ->check(CLI::IsMember({"paper", "round_robin", "sa_n", "spatial", "feedback", "view"}));
+  info->add_option("--locality", info_arch.locality, "spatial, feedback: tight unit bounds (1) against balance (0)");
+  info->add_option("--accel", info_arch.accel, "brute | bvh: what the sa_n cost estimate assumes inside a sphere")
+      ->check(CLI::IsMember({"brute", "bvh"}));
   add_load_options(info, opt.load, opt.split, opt.max_object_triangles);
 
   auto* ref = app.add_subcommand("reference", "render with the untimed functional reference");
@@ -79,8 +87,10 @@ int main(int argc, char** argv) {
   render->add_option("--frames", ro.frames, "N or A:B (inclusive); default: every frame");
   render->add_option("--level", ro.level, "at | lt | analytic")->check(CLI::IsMember({"at", "lt", "analytic"}));
   render->add_option("--quantum", ro.quantum, "temporal-decoupling quantum for lt, e.g. 1us");
-  render->add_option("--balance", ro.balance, "paper | round_robin | sa_n | feedback | view")
-      ->check(CLI::IsMember({"paper", "round_robin", "sa_n", "feedback", "view"}));
+  render->add_option("--balance", ro.balance, "paper | round_robin | sa_n | spatial | feedback | view")
+      ->check(CLI::IsMember({"paper", "round_robin", "sa_n", "spatial", "feedback", "view"}));
+  render->add_option("--locality", ro.locality,
+                     "spatial, feedback: tight unit bounds (1) against balance (0); spatial's default 0.5");
   render->add_option("--subdivide", ro.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
   render->add_option("--accel", ro.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
   render->add_option("--top", ro.top, "flat | bvh: every sphere per ray, or a tree over each unit's spheres")
@@ -121,7 +131,7 @@ int main(int argc, char** argv) {
   install_stop_handlers();
   set_thread_count(threads);
   try {
-    if (*info) return run_info(opt);
+    if (*info) return run_info(opt, info_arch);
     if (*ref) return run_reference(opt);
     if (*render) return run_render(ro);
     if (*compare) return run_compare(compare_image, compare_reference);

@@ -3,6 +3,8 @@
 #include "scene/error.h"
 
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 
 namespace oprt {
 
@@ -45,6 +47,15 @@ void parse_resolution(const std::string& text, int& width, int& height) {
     throw InputError("--resolution", text, "expected WxH with 1 <= W, H <= 16384");
   width = static_cast<int>(w);
   height = static_cast<int>(h);
+}
+
+double parse_locality(const std::string& text) {
+  const char* s = text.c_str();
+  char* end = nullptr;
+  const double v = std::strtod(s, &end);
+  if (text.empty() || *end != '\0' || !(v >= 0 && v <= 1))
+    throw InputError("--locality", text, "expected a number from 0 (balance first) to 1 (tight unit bounds first)");
+  return v;
 }
 
 LoadOptions load_options_for(LoadOptions load, std::optional<std::size_t> max_object_triangles, ObjectSplit split) {

@@ -24,6 +24,9 @@ void parse_resolution(const std::string& text, int& width, int& height);
 // "65536", "64K", "64KB", "4M" (K = 1024, M = 1024 K); 0 means no limit. Throws InputError naming `what`.
 std::uint64_t parse_bytes(const std::string& text, const std::string& what);
 
+// "0.5": --locality, a number in [0, 1]. Throws InputError naming the option.
+double parse_locality(const std::string& text);
+
 // The loader's options under a split rule. A BART group is split by count into objects of
 // at most --max-object-triangles: by default 4,096 under `count` (the rule before split by
 // extent), none under `extent` (groups stay whole and the spheres are split by extent).

@@ -1,6 +1,8 @@
 #include "policy_driver.h"
 
 #include "balance/dynamic.h"
+#include "balance/partition_quality.h"
+#include "balance/spatial.h"
 #include "ref/frame_setup.h"
 
 namespace oprt {
@@ -39,10 +41,33 @@ const Assignment& PolicyDriver<T>::for_frame(int f, const hw::FrameRun* previous
     for (auto c : arch_.kernel_costs().tri_stage) m.triangle_cycles += c / double(kTriStages);
     w = view_weights(world, prims, setup.camera, width_, height_, setup.lights, m);
   }
-  current_ = keep_in_place(assign_weighted(w, current_.units()), current_, bytes_);
+  // With a locality, feedback re-partitions by where the spheres are in this frame.
+  const Assignment next = arch_.balance == "feedback" && arch_.locality
+                              ? assign_spatial(sphere_world_boxes(scene_, geom_.defs, f), w, current_.units(), *arch_.locality)
+                              : assign_weighted(w, current_.units());
+  current_ = keep_in_place(next, current_, bytes_);
   return current_;
 }
 
+template <typename T>
+SaNCosts sa_n_costs(const Arch& arch, const SceneGeometry<T>& g) {
+  SaNCosts costs;
+  costs.sphere = arch.costs.sphere;
+  costs.transform = arch.kernel_costs().transform;
+  costs.triangle = 0;
+  for (auto c : arch.kernel_costs().tri_stage) costs.triangle += c / double(kTriStages);
+  costs.box_setup = arch.costs.box_setup;
+  costs.box = arch.costs.box;
+  if (!g.has_bvh()) return costs;
+  costs.bvh.resize(g.sphere_count());  // per sphere its nodes' box areas and leaf sizes
+  for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
+    for (std::uint32_t i = g.first_node[s]; i < g.first_node[s + 1]; ++i)
+      costs.bvh[s].push_back({static_cast<double>(g.nodes[i].box.surface_area()), g.nodes[i].count});
+  return costs;
+}
+
+template SaNCosts sa_n_costs(const Arch&, const SceneGeometry<float>&);
+template SaNCosts sa_n_costs(const Arch&, const SceneGeometry<double>&);
 template class PolicyDriver<float>;
 template class PolicyDriver<double>;
 

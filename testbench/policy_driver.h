@@ -1,11 +1,14 @@
 // Decides each frame's assignment of spheres to units for the --balance policy: fixed for
-// paper / round_robin / sa_n; recomputed per frame for view (from the frame's camera and
-// lights) and feedback (from the previous frame's measured per-sphere cycles; the first
-// frame falls back to sa_n). Dynamic assignments keep as much geometry in place as the
-// partition allows; what moves is written into object memories over the bus.
+// paper / round_robin / sa_n / spatial; recomputed per frame for view (from the frame's
+// camera and lights) and feedback (from the previous frame's measured per-sphere cycles;
+// the first frame falls back to sa_n; with --locality F, spatial at F on the measured
+// cycles and where the spheres are in the frame, the first frame spatial at F on sa_n's).
+// Dynamic assignments keep as much geometry in place as the partition allows; what moves
+// is written into object memories over the bus.
 #pragma once
 
 #include "balance/assign.h"
+#include "balance/policy.h"
 #include "timing/analytic.h"
 #include "arch/arch.h"
 #include "ref/scene_geometry.h"
@@ -32,6 +35,13 @@ class PolicyDriver {
   int width_, height_;
 };
 
+// The sa_n estimate's costs under an architecture: its sphere, transform and mean triangle
+// test, and with --accel bvh each sphere's tree (the weights are then its SAH cost).
+template <typename T>
+SaNCosts sa_n_costs(const Arch& arch, const SceneGeometry<T>& geometry);
+
+extern template SaNCosts sa_n_costs(const Arch&, const SceneGeometry<float>&);
+extern template SaNCosts sa_n_costs(const Arch&, const SceneGeometry<double>&);
 extern template class PolicyDriver<float>;
 extern template class PolicyDriver<double>;
 

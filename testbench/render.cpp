@@ -6,6 +6,7 @@
 #include "ref/scene_geometry.h"
 #include "scene/error.h"
 #include "scene/load.h"
+#include "policy_driver.h"
 #include "testbench.h"
 
 #include <cstdio>
@@ -29,6 +30,12 @@ Arch resolve_arch(const RenderOptions& o) {
   if (o.level) a.level = *o.level == "at" ? Level::at : *o.level == "lt" ? Level::lt : Level::analytic;
   if (o.quantum) a.quantum_ns = parse_time_ns(*o.quantum, "--quantum");
   if (o.balance) a.balance = *o.balance;
+  if (o.locality) {
+    a.locality = parse_locality(*o.locality);
+    if (!a.balance_takes_locality())
+      throw InputError("--locality", *o.locality,
+                       "only --balance spatial and feedback take a locality (the balance is " + a.balance + ")");
+  }
   if (o.subdivide) a.subdivide = *o.subdivide;
   if (!o.split.empty()) a.split = o.split;
   if (o.accel) a.accel = *o.accel;
@@ -67,18 +74,6 @@ TraceSelection trace_selection(const RenderOptions& o, const FrameRange& rendere
   return t;
 }
 
-// Per sphere its BVH nodes' box areas and leaf sizes, for the sa_n weights.
-template <typename T>
-std::vector<std::vector<NodeArea>> node_areas(const SceneGeometry<T>& g) {
-  std::vector<std::vector<NodeArea>> out(g.sphere_count());
-  for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
-    for (std::uint32_t i = g.first_node[s]; i < g.first_node[s + 1]; ++i) {
-      const BvhNode<T>& n = g.nodes[i];
-      out[s].push_back({static_cast<double>(n.box.surface_area()), n.count});
-    }
-  return out;
-}
-
 template <typename T>
 int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
   const auto spheres = make_spheres(scene, job.arch.subdivide, split_rule_named(job.arch.split_rule),
@@ -87,18 +82,9 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
   if (units < static_cast<std::size_t>(job.arch.ius))
     std::printf("oprt: %d intersection units requested, the scene has %zu spheres: instantiating %zu units\n",
                 job.arch.ius, spheres.size(), units);
-  // Dynamic policies start from sa_n (feedback has nothing measured before the first frame).
-  const bool dynamic = job.arch.balance == "feedback" || job.arch.balance == "view";
   SceneGeometry<T> geometry = build_geometry<T>(scene, spheres, job.arch.kernel, accel_named(job.arch.accel));
-  SaNCosts costs;
-  costs.sphere = job.arch.costs.sphere;
-  costs.transform = job.arch.kernel_costs().transform;
-  costs.triangle = 0;
-  for (auto c : job.arch.kernel_costs().tri_stage) costs.triangle += c / double(kTriStages);
-  costs.box_setup = job.arch.costs.box_setup;
-  costs.box = job.arch.costs.box;
-  if (geometry.has_bvh()) costs.bvh = node_areas(geometry);  // sa_n weighs the trees' SAH cost
-  job.assignment = static_assignment(dynamic ? "sa_n" : job.arch.balance, scene, spheres, units, costs);
+  const SaNCosts costs = sa_n_costs(job.arch, geometry);
+  job.assignment = initial_assignment(job.arch.balance, job.arch.locality, scene, spheres, units, costs);
   // Every sphere's SA x N and sa_n cost estimate, whatever the policy: scripts/figures
   // compares both with the measured cycles.
   const std::vector<double> weights = sa_n_weights(scene, spheres, costs);

@@ -1,5 +1,6 @@
 #include "arch/arch.h"
 
+#include "balance/spatial.h"
 #include "scene/json_in.h"
 
 #include <cctype>
@@ -105,6 +106,18 @@ void read_iu(const JsonIn& j, IuConfig& iu) {
   }
 }
 
+// "balance": a policy's name, or {"policy": NAME, "locality": F} (either key optional).
+void read_balance(const JsonIn& j, Arch& a) {
+  const std::initializer_list<const char*> policies = {"paper", "round_robin", "sa_n", "spatial", "feedback", "view"};
+  if (!j.is_object()) {
+    a.balance = one_of(j, policies);
+    return;
+  }
+  j.only_keys({"policy", "locality"});
+  if (auto v = j.find("policy")) a.balance = one_of(*v, policies);
+  if (auto v = j.find("locality")) a.locality = v->number(0, 1);
+}
+
 nlohmann::json iu_json(const IuConfig& iu) {
   const auto unit = [](const IuConfig::Unit& u) { return nlohmann::json{{"adders", u.adders}, {"multipliers", u.multipliers}}; };
   return {{"model", to_string(iu.model)},
@@ -202,7 +215,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   if (auto v = root.find("level"))
     a.level = choose<Level>(*v, {{"at", Level::at}, {"lt", Level::lt}, {"analytic", Level::analytic}});
   if (auto v = root.find("quantum")) a.quantum_ns = parse_time_ns(v->string(), file + ": /quantum");
-  if (auto v = root.find("balance")) a.balance = one_of(*v, {"paper", "round_robin", "sa_n", "feedback", "view"});
+  if (auto v = root.find("balance")) read_balance(*v, a);
   a.subdivide = static_cast<int>(root.integer_or("subdivide", a.subdivide, 1, 4096));
   if (auto v = root.find("split_rule")) a.split_rule = one_of(*v, {"balanced", "median"});
   if (auto v = root.find("split")) a.split = one_of(*v, {"count", "extent"});
@@ -215,14 +228,18 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   return a;
 }
 
-void check_arch(const Arch&) {
+void check_arch(const Arch& a) {
+  if (a.locality && !a.balance_takes_locality())
+    throw InputError(a.source, "balance.locality with balance " + a.balance,
+                     "only spatial and feedback take a locality (tight unit bounds against balance)");
   // Every combination of the unit, its acceleration, the tree over its spheres and its
-  // memory is modelled at every level; nothing left to refuse here.
+  // memory is modelled at every level: nothing else to refuse.
 }
 
 Arch load_arch(const std::string& path) { return arch_from_json(JsonIn::parse_file(path), path); }
 
-nlohmann::json to_json(const Arch& a) {
+namespace {
+nlohmann::json without_locality(const Arch& a) {
   return {{"source", a.source},
           {"clock_mhz", a.clock_mhz},
           {"ius", a.ius},
@@ -257,6 +274,15 @@ nlohmann::json to_json(const Arch& a) {
           {"precision", a.precision},
           {"sync_every_ray", a.sync_every_ray},
           {"iu", iu_json(a.iu)}};
+}
+}  // namespace
+
+nlohmann::json to_json(const Arch& a) {
+  nlohmann::json j = without_locality(a);
+  // Only where it applies (the records of the other policies stay as they were).
+  if (a.balance == "spatial") j["locality"] = a.locality.value_or(kDefaultLocality);
+  else if (a.balance == "feedback" && a.locality) j["locality"] = *a.locality;
+  return j;
 }
 
 }  // namespace oprt

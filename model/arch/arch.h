@@ -8,6 +8,7 @@
 #include "arch/cycle_costs.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -90,6 +91,9 @@ struct Arch {
   Level level = Level::at;
   double quantum_ns = 1000;
   std::string balance = "paper";
+  // Tight unit bounds (1) against balance (0) for `spatial` (unset: balance/spatial.h's
+  // default) and `feedback` (unset: feedback on costs alone, as before locality existed).
+  std::optional<double> locality;
   int subdivide = 1;
   std::string split_rule = "balanced";  // how --subdivide splits an object (balance/subdivide.cpp)
   // How objects become spheres (balance/spheres.h): "count" or "extent"; "" is the scene
@@ -108,6 +112,8 @@ struct Arch {
   // The costs of the kernel this run uses.
   const KernelCosts& kernel_costs() const { return costs.of(kernel); }
   bool top_tree() const { return top == "bvh"; }
+  // Whether the balance policy takes a locality (spatial, feedback).
+  bool balance_takes_locality() const { return balance == "spatial" || balance == "feedback"; }
 };
 
 // Throws InputError (file, JSON path, problem) on any unknown key or impossible value.

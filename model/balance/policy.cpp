@@ -1,6 +1,7 @@
 #include "balance/policy.h"
 
 #include "balance/hull_area.h"
+#include "balance/partition_quality.h"
 #include "geom/bounding_sphere.h"
 
 #include <algorithm>
@@ -57,11 +58,21 @@ std::vector<double> sa_n_weights(const Scene& scene, const std::vector<SphereDef
 }
 
 Assignment static_assignment(const std::string& policy, const Scene& scene, const std::vector<SphereDef>& spheres,
-                             std::size_t units, const SaNCosts& costs) {
+                             std::size_t units, const SaNCosts& costs, double locality) {
   if (policy == "paper") return assign_paper(spheres.size(), units);
   if (policy == "round_robin") return assign_round_robin(spheres.size(), units);
   if (policy == "sa_n") return assign_weighted(sa_n_weights(scene, spheres, costs), units);
+  if (policy == "spatial")
+    return assign_spatial(sphere_world_boxes(scene, spheres, 0), sa_n_weights(scene, spheres, costs), units, locality);
   throw std::invalid_argument("static_assignment: policy " + policy + " is not static");
+}
+
+Assignment initial_assignment(const std::string& policy, std::optional<double> locality, const Scene& scene,
+                              const std::vector<SphereDef>& spheres, std::size_t units, const SaNCosts& costs) {
+  if (policy == "spatial") return static_assignment(policy, scene, spheres, units, costs, locality.value_or(kDefaultLocality));
+  if (policy == "feedback" && locality) return static_assignment("spatial", scene, spheres, units, costs, *locality);
+  if (policy == "feedback" || policy == "view") return static_assignment("sa_n", scene, spheres, units, costs);
+  return static_assignment(policy, scene, spheres, units, costs);
 }
 
 }  // namespace oprt

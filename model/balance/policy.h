@@ -1,8 +1,11 @@
-// The --balance policies that need only the scene's spheres (static over the animation).
+// The --balance policies that need only the scene's spheres (static over the animation), and
+// where the per-frame ones start.
 #pragma once
 
 #include "balance/assign.h"
+#include "balance/spatial.h"
 
+#include <optional>
 #include <string>
 
 namespace oprt {
@@ -23,9 +26,16 @@ struct SaNCosts {
   std::vector<std::vector<NodeArea>> bvh;
 };
 
-// "paper", "round_robin" or "sa_n"; units = min(requested, spheres).
+// "paper", "round_robin", "sa_n" or "spatial" (balance/spatial.h: the spheres where they are
+// at frame 0, their sa_n weights as costs, at `locality`); units = min(requested, spheres).
 Assignment static_assignment(const std::string& policy, const Scene& scene, const std::vector<SphereDef>& spheres,
-                             std::size_t units, const SaNCosts& costs = {});
+                             std::size_t units, const SaNCosts& costs = {}, double locality = kDefaultLocality);
+
+// The assignment a run starts from: a static policy's own (spatial at `locality`, or at its
+// default without one); "feedback" and "view" start from sa_n (nothing is measured before
+// the first frame), feedback with a locality from spatial at it.
+Assignment initial_assignment(const std::string& policy, std::optional<double> locality, const Scene& scene,
+                              const std::vector<SphereDef>& spheres, std::size_t units, const SaNCosts& costs = {});
 
 // The paper's SA x N made into expected cycles per primary ray, with no knowledge of the
 // viewpoint. Per primary ray a unit tests each of its spheres against the primary ray and

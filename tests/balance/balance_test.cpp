@@ -196,7 +196,7 @@ TEST_CASE("the image is the same under every policy and subdivision", "[balance]
   const SceneGeometry<float> g1 = build_geometry<float>(s, make_spheres(s, 1));
   const FrameImage ref = render_reference(s, g1, 12, n, n).image;
   for (int k : {1, 8})
-    for (const char* policy : {"paper", "round_robin", "sa_n"}) {
+    for (const char* policy : {"paper", "round_robin", "sa_n", "spatial"}) {
       INFO(policy << " k " << k);
       const auto spheres = make_spheres(s, k);
       const SceneGeometry<float> g = build_geometry<float>(s, spheres);
