@@ -163,6 +163,7 @@ struct VisitReadExtension : Extension<VisitReadExtension> {
   const VisitStream* stream = nullptr;
   BurstConsumer* unit = nullptr;
   bool sync = false;  // wait until each miss is due before sending it (DRAM sees requests in time order)
+  Cycle horizon = 0;  // no later read of this unit's asks for anything before (its timing state's past)
 };
 
 // A cache line fill (data_length: line_bytes; address: addr::dram_base + the line's address).

@@ -54,13 +54,14 @@ void IntersectionUnit<T>::send_answer(std::uint32_t ray, const UnitRayWork* w, s
 
 template <typename T>
 Cycle IntersectionUnit<T>::read(std::uint32_t sphere, std::uint64_t bytes, const VisitStream* stream,
-                                BurstConsumer* unit, Cycle request, bool sync) {
+                                BurstConsumer* unit, Cycle request, bool sync, Cycle horizon) {
   VisitReadExtension& e = prepare<VisitReadExtension>(read_, tlm::TLM_READ_COMMAND, 0, read_bytes_.data(bytes),
                                                       static_cast<unsigned>(bytes));
   e.sphere = sphere;
   e.stream = stream;
   e.unit = unit;
   e.sync = sync;
+  e.horizon = horizon;
   const sc_time at = time_of(request);
   sc_time delay = at > sc_time_stamp() ? at - sc_time_stamp() : SC_ZERO_TIME;
   mem->b_transport(read_, delay);

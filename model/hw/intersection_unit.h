@@ -79,8 +79,9 @@ class IntersectionUnit : public sc_core::sc_module, public Waiter {
   // Reads of `bytes` from object memory; with a stream, the memory times its bursts from
   // `request` and hands their arrivals to `unit`; returns when the unit is done with the
   // last (the request itself without a stream).
+  // `horizon`: no later read asks for anything before it.
   Cycle read(std::uint32_t sphere, std::uint64_t bytes, const VisitStream* stream, BurstConsumer* unit, Cycle request,
-             bool sync);
+             bool sync, Cycle horizon);
   sc_core::sc_time time_of(Cycle c) const { return sc_core::sc_time::from_value(cycle_.value() * static_cast<std::uint64_t>(c)); }
   Cycle cycle_of(const sc_core::sc_time& t) const { return static_cast<Cycle>((t.value() + cycle_.value() / 2) / cycle_.value()); }
   std::string its_fifo() const;

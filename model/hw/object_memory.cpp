@@ -46,7 +46,7 @@ void ObjectMemory::read_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
   // Time the visit's bursts; with `sync` each miss is sent when it is due (fetch), so that
   // a DRAM channel shared with other units sees every unit's requests in time order.
   sync_ = r->sync;
-  model_.forget_before(cycles(sc_time_stamp()));  // no unit reads earlier than now
+  model_.forget_before(r->horizon);
   const Cycle end = model_.visit(*r->stream, cycles(sc_time_stamp() + delay), *r->unit);
   delay = std::max(at(end), sc_time_stamp()) - sc_time_stamp();
 }

@@ -88,7 +88,7 @@ UnitStats& PipelinedUnit<T>::stats() {
 // The pipeline's reads of one visit, through the memory socket.
 template <typename T>
 Cycle PipelinedUnit<T>::read(const VisitStream& s, Cycle request, BurstConsumer& unit) {
-  return Base::read(s.sphere, s.bytes(), &s, &unit, request, false);
+  return Base::read(s.sphere, s.bytes(), &s, &unit, request, false, taken_);
 }
 
 // The pipeline takes ray e at cycle t and places its program; the answer goes at once,
@@ -99,6 +99,7 @@ void PipelinedUnit<T>::take(const RayEntry& e, Cycle t) {
   this->ray_ = e.ray;
   const UnitRayWork* w = this->frame_.find(e.ray, unit);
   const PipelineRay& ray = rays_.build(this->frame_, unit, w, e.ray, this->regs_);
+  taken_ = t;  // its reads and every later ray's ask for nothing earlier
   const PipelinedUnitTiming::Taken k = pipe_->take(t, this->cycle_of(e.avail), ray, *this);
   ++this->stats_.rays[static_cast<int>(this->frame_.rays[e.ray].kind)];
   if (this->arch_.bus.model == BusModel::ideal) {

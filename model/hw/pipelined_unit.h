@@ -60,6 +60,7 @@ class PipelinedUnit : public IntersectionUnit<T>, private VisitReader {
   std::unique_ptr<Trace> trace_;
   std::unique_ptr<PipelinedUnitTiming> pipe_;
   PipelineRayBuilder<T> rays_;
+  Cycle taken_ = 0;  // when the ray being placed was taken
   std::priority_queue<Answer, std::vector<Answer>, std::greater<Answer>> answers_;
   sc_core::sc_event answer_queued_, slot_freed_;
 };

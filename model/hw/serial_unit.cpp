@@ -72,7 +72,7 @@ void SerialUnit<T>::trace_ray(std::uint32_t ray, const UnitRayWork* w) {
                                    [&](const VisitStream& s, Cycle request, BurstConsumer& c) {
                                      const std::uint64_t bytes = std::uint64_t{v.tri_tests} * Bytes<T>::triangle(this->arch_.kernel) +
                                                                  std::uint64_t{v.box_tests} * Bytes<T>::node;
-                                     return this->read(this->regs_.sphere[v.entry], bytes, &s, &c, request, sync_misses_);
+                                     return this->read(this->regs_.sphere[v.entry], bytes, &s, &c, request, sync_misses_, request);
                                    },
                                    state);
     if (sync_misses_) clock_.resync();
@@ -116,10 +116,10 @@ void SerialUnit<T>::run() {
     ++this->stats_.rays[kind];
     const bool through_cache = this->cached_ && w && this->frame_.visits_of(unit, this->frame_.units[unit].index(w)).size() > 0;
     if (through_cache || vcd_ || timeline_) {
-      if (w && !through_cache) this->read(kNone, w->bytes, nullptr, nullptr, 0, false);
+      if (w && !through_cache) this->read(kNone, w->bytes, nullptr, nullptr, 0, false, 0);
       trace_ray(e.ray, w);
     } else {
-      if (w) this->read(kNone, w->bytes, nullptr, nullptr, 0, false);  // its triangles and nodes, from on-chip memory
+      if (w) this->read(kNone, w->bytes, nullptr, nullptr, 0, false, 0);  // its triangles and nodes, from on-chip memory
       const std::uint64_t cycles = this->frame_.cycles(w, unit);
       this->stats_.charged += cycles;
       clock_.advance(sc_time::from_value(cycles * this->cycle_.value()));

@@ -7,12 +7,13 @@ namespace oprt::hw {
 Cache::Cache(std::uint64_t capacity, std::uint32_t line_bytes, std::uint32_t ways, CacheReplacement r, std::uint64_t seed)
     : line_bytes_(line_bytes), ways_(ways), replacement_(r), rng_(seed * 0x9E3779B97F4A7C15ull + 1) {
   sets_ = std::max<std::uint64_t>(1, capacity / (std::uint64_t{line_bytes} * ways));
+  if ((sets_ & (sets_ - 1)) == 0) set_mask_ = sets_ - 1;  // the usual case: no division per access
   way_.assign(sets_ * ways_, Way{});
 }
 
 std::uint64_t* Cache::access(std::uint64_t line, bool& hit) {
   ++clock_;
-  Way* set = &way_[(line % sets_) * ways_];
+  Way* set = &way_[(set_mask_ != kNoMask ? line & set_mask_ : line % sets_) * ways_];
   for (std::uint32_t w = 0; w < ways_; ++w)
     if (set[w].tag == line) {
       hit = true;
@@ -48,10 +49,14 @@ void Cache::invalidate(std::uint64_t first, std::uint64_t end) {
 }
 
 std::uint64_t MissWindow::slot(std::uint64_t t) {
-  while (!arrivals_.empty() && arrivals_.front() <= t) arrivals_.pop_front();
-  if (arrivals_.size() < limit_) return t;
-  const std::uint64_t free = arrivals_.front();
-  arrivals_.pop_front();
+  while (head_ < arrivals_.size() && arrivals_[head_] <= t) pop();
+  if (head_ > 64) {  // keep the vector short: drop what has arrived
+    arrivals_.erase(arrivals_.begin(), arrivals_.begin() + static_cast<std::ptrdiff_t>(head_));
+    head_ = 0;
+  }
+  if (arrivals_.size() - head_ < limit_) return t;
+  const std::uint64_t free = arrivals_[head_];
+  pop();
   return std::max(t, free);
 }
 

@@ -57,6 +57,8 @@ class Cache {
   };
   std::uint32_t line_bytes_ = 64, ways_ = 1;
   std::uint64_t sets_ = 1;
+  static constexpr std::uint64_t kNoMask = ~std::uint64_t{0};
+  std::uint64_t set_mask_ = kNoMask;  // sets - 1 when sets is a power of two
   CacheReplacement replacement_ = CacheReplacement::lru;
   std::vector<Way> way_;  // sets x ways
   std::uint64_t clock_ = 0, rng_ = 1;
@@ -68,12 +70,22 @@ class MissWindow {
   explicit MissWindow(std::uint32_t limit = 1) : limit_(limit) {}
   // When a miss wanted at `t` can be sent (a free slot); take the slot.
   std::uint64_t slot(std::uint64_t t);
-  void clear() { arrivals_.clear(); }
-  void sent(std::uint64_t arrival) { arrivals_.insert(std::upper_bound(arrivals_.begin(), arrivals_.end(), arrival), arrival); }
+  void clear() {
+    arrivals_.clear();
+    head_ = 0;
+  }
+  void sent(std::uint64_t arrival) {
+    arrivals_.insert(std::upper_bound(arrivals_.begin() + static_cast<std::ptrdiff_t>(head_), arrivals_.end(), arrival),
+                     arrival);
+  }
 
  private:
+  void pop() {
+    if (++head_ == arrivals_.size()) clear();
+  }
   std::uint32_t limit_;
-  std::deque<std::uint64_t> arrivals_;  // in flight, ascending
+  std::vector<std::uint64_t> arrivals_;  // in flight, ascending, from head_ on
+  std::size_t head_ = 0;
 };
 
 // What one visit reads, in memory order.

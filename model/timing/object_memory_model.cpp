@@ -52,44 +52,51 @@ Cycle ObjectMemoryModel::fetch(std::uint64_t line, Cycle t) {
 Cycle ObjectMemoryModel::visit(const VisitStream& v, Cycle request, BurstConsumer& unit) {
   std::size_t item = 0;
   Cycle next = request;
-  const std::uint64_t line_bytes = is_cache_ ? cache_.line_bytes() : 1;
   for (std::size_t b = 0; b < v.bursts.size(); ++b) {
     const VisitStream::Burst& burst = v.bursts[b];
     const Cycle r = next;
-    arrive_.resize(burst.items);
-    // On-chip: the burst streams from `stream` on (the port's first free time after the latency).
-    Cycle stream = r;
+    const std::uint32_t n = burst.items;
+    const Cycle bytes = burst.item_bytes;
+    arrive_.resize(n);
+    // On-chip: at the request, or streamed from the port's first free time after the latency.
     if (latency_) {
-      port_.reserve(r + latency_cycles_, ceil_div(Cycle{burst.items} * burst.item_bytes, bytes_per_cycle_), &stream);
+      Cycle stream = r;
+      port_.reserve(r + latency_cycles_, ceil_div(Cycle{n} * bytes, bytes_per_cycle_), &stream);
+      for (std::uint32_t j = 0; j < n; ++j) arrive_[j] = stream + ceil_div(Cycle{j + 1} * bytes, bytes_per_cycle_);
+    } else {
+      std::fill(arrive_.begin(), arrive_.end(), r);
     }
-    std::uint64_t line = ~std::uint64_t{0};
-    Cycle line_ready = 0;
-    for (std::uint32_t j = 0; j < burst.items; ++j) {
-      Cycle a = latency_ ? stream + ceil_div(Cycle{j + 1} * burst.item_bytes, bytes_per_cycle_) : r;
-      if (is_cache_) {
-        const std::uint64_t address = burst.address + std::uint64_t{j} * burst.item_bytes;
-        const std::uint64_t last = (address + burst.item_bytes - 1) / line_bytes;
-        for (std::uint64_t l = address / line_bytes; l <= last; ++l) {
-          if (l != line) {  // a line shared by consecutive items is looked up once
-            bool hit = false;
-            std::uint64_t* slot = cache_.access(l, hit);
-            if (hit) {
-              ++counts_.hits;
-              line_ready = std::max(static_cast<Cycle>(*slot), r);
-            } else {
-              line_ready = fetch(l, static_cast<Cycle>(window_.slot(static_cast<std::uint64_t>(r))));
-              window_.sent(static_cast<std::uint64_t>(line_ready));
-              *slot = static_cast<std::uint64_t>(line_ready);
-            }
-            line = l;
-          }
-          a = std::max(a, line_ready);
+    if (is_cache_ && n) {
+      // Every line of the burst looked up once, in order, at the request; an item is there
+      // when its lines are.
+      const int shift = __builtin_ctzll(cache_.line_bytes());  // a power of two (arch.cpp)
+      const std::uint64_t first = burst.address >> shift;
+      const std::uint64_t last = (burst.address + std::uint64_t{n} * burst.item_bytes - 1) >> shift;
+      line_ready_.resize(last - first + 1);
+      for (std::uint64_t l = first; l <= last; ++l) {
+        bool hit = false;
+        std::uint64_t* slot = cache_.access(l, hit);
+        Cycle ready;
+        if (hit) {
+          ++counts_.hits;
+          ready = std::max(static_cast<Cycle>(*slot), r);
+        } else {
+          ready = fetch(l, static_cast<Cycle>(window_.slot(static_cast<std::uint64_t>(r))));
+          window_.sent(static_cast<std::uint64_t>(ready));
+          *slot = static_cast<std::uint64_t>(ready);
         }
+        line_ready_[l - first] = ready;
       }
-      arrive_[j] = a;
+      std::uint64_t address = burst.address;
+      for (std::uint32_t j = 0; j < n; ++j, address += burst.item_bytes) {
+        const std::uint64_t lo = (address >> shift) - first, hi = ((address + burst.item_bytes - 1) >> shift) - first;
+        Cycle a = arrive_[j];
+        for (std::uint64_t l = lo; l <= hi; ++l) a = std::max(a, line_ready_[l]);
+        arrive_[j] = a;
+      }
     }
     next = unit.consume(v, b, item, arrive_.data());
-    item += burst.items;
+    item += n;
   }
   return next;
 }

@@ -107,7 +107,7 @@ class ObjectMemoryModel {
   const Cycle line_transfer_, dram_latency_;
   Fill* fill_ = nullptr;
   CacheCounts counts_;
-  std::vector<Cycle> arrive_;  // scratch: one burst's arrivals
+  std::vector<Cycle> arrive_, line_ready_;  // scratch: one burst's items' and lines' arrivals
 };
 
 }  // namespace oprt::hw
