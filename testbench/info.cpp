@@ -58,7 +58,9 @@ int run_info(const CommonOptions& o, const RenderOptions& arch_options) {
       std::printf("%s\n", s.table().c_str());
     }
     // The pipelined IU's units at their default (a unit per op: II 1, latency 1 per op).
-    for (const OpGraph* g : {&sphere_stable_graph(), &transform_graph(), &moller_graph(), &transform_watertight_graph(),
+    for (const OpGraph* g : {&top_node_graph(), &sphere_stable_graph(), &transform_graph(),
+                              &transform_box_setup_graph(Kernel::moller), &box_graph(), &moller_graph(),
+                              &transform_watertight_graph(), &transform_box_setup_graph(Kernel::watertight),
                               &watertight_graph()})
       std::printf("%s\n", modulo_schedule(*g, full_units(*g)).table().c_str());
     if (o.scene.empty()) return 0;

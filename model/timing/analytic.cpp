@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <functional>
+#include <queue>
+#include <set>
 
 namespace oprt::hw {
 
@@ -176,17 +178,66 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   auto no_phase = [](UnitState, Cycle, Cycle) {};
   const Cycle transform = arch_.kernel_costs().transform;
 
+  // A shared bus grants first come first served (hw/bus.h): the units' answers wait here
+  // and are granted in the order of their requests, when the GPP's time passes them (before
+  // its own writes), or earlier when a unit must know when it is free again (it waits for
+  // its answer's transfer). An answer granted that early may take the bus before a write the
+  // GPP makes later in its time but earlier than the answer: the level's error.
+  struct Pending {
+    Cycles at;
+    std::uint64_t seq;
+    std::uint32_t unit, ray;
+    std::uint64_t bytes;
+    Cycles end;  // serial: when the unit finished the ray
+    PipelinedUnitTiming::Handle handle;
+    Cycle done;  // pipelined: when the answer was ready
+    bool operator>(const Pending& o) const { return at != o.at ? at > o.at : seq > o.seq; }
+  };
+  std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> pending;
+  std::vector<std::multiset<Cycles>> unit_pending(units);  // per unit: its answers' requests
+  std::vector<std::uint32_t> answers_left(f.ray_count(), 0);
+  std::vector<Cycles> ray_done(f.ray_count(), 0);
+  std::uint64_t seq = 0;
+  auto grant = [&](const Pending& a) {
+    const Cycles done = transfer(a.at, a.bytes);
+    if (pipelined) {
+      pipes_[a.unit].retire(a.handle, a.done, static_cast<Cycle>(done));
+    } else {
+      timed[a.unit].bus_stall += done - a.end;
+      unit_free[a.unit] = done;
+    }
+    unit_pending[a.unit].erase(unit_pending[a.unit].find(a.at));
+    ray_done[a.ray] = std::max(ray_done[a.ray], done);
+    if (--answers_left[a.ray] == 0) work.answered(ray_done[a.ray], a.ray);
+  };
+  auto grant_until = [&](Cycles t) {  // every answer requested at or before t
+    while (!pending.empty() && pending.top().at <= t) {
+      const Pending a = pending.top();
+      pending.pop();
+      grant(a);
+    }
+  };
+  // Unit u's answers requested at or before t (and, first, everything requested before them).
+  auto grant_unit_until = [&](std::uint32_t u, Cycles t) {
+    while (!unit_pending[u].empty() && *unit_pending[u].begin() <= t) grant_until(*unit_pending[u].begin());
+  };
+
   // Issue ray `id`: the GPP generates and writes it; every unit takes it in FIFO order.
   const bool caches = plan_.any_cached();
   const bool simple = !pipelined && !shared && !caches;
   std::vector<Cycles> miss_cycles(units);  // a ray that enters none of the unit's spheres
   for (std::uint32_t u = 0; u < units; ++u) miss_cycles[u] = f.cycles(nullptr, u);
+  // When every ray FIFO has room for the next ray: when each unit popped the ray `depth`
+  // places before it (as the SystemC GPP reads it off its FIFOs).
+  auto room_time = [&]() {
+    const std::size_t n = last_pop.size();  // rays issued so far
+    return depth && n >= depth ? std::max(g, last_pop[n - depth]) : g;
+  };
   auto issue = [&](std::uint32_t id) {
-    g += arch_.gpp.cycles_per_ray;
-    const std::size_t n = last_pop.size();  // rays issued before this one
-    if (depth && n >= depth) g = std::max(g, last_pop[n - depth]);  // room in every FIFO
+    g += arch_.gpp.cycles_per_ray;  // room first (the GPP's rule waited for it), then the ray is generated
     // Every later request is at or after g (the GPP's time never decreases, and a unit
     // answers after the ray arrived): grants that ended by then can no longer matter.
+    if (shared) grant_until(g);  // answers requested before the GPP's write take the bus first
     bus.forget_before(g);
     if (frame_dram) frame_dram->forget_before(g);
     g = transfer(g, Bytes<T>::ray_bytes(arch_.top_tree()));
@@ -196,6 +247,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     const std::uint64_t answer = kind == RayKind::primary ? Bytes<T>::nearest_answer : Bytes<T>::shadow_answer;
     Cycles done_all = 0, popped = 0;
     ++issued;
+    answers_left[id] = static_cast<std::uint32_t>(units);
     if (simple) {  // serial units, ideal bus, on-chip memories: the common case, kept tight
       out.bus_transfers += units;
       out.bus_bytes += units * answer;
@@ -218,12 +270,24 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
       Cycles start, done;
       if (pipelined) {
         PipelinedUnitTiming& p = pipes_[u];
-        start = std::max(static_cast<Cycles>(p.ready()), avail);
+        // Its slots free as its answers leave: those that leave by the time it could take the ray.
+        for (;;) {
+          start = std::max(static_cast<Cycles>(p.ready()), avail);
+          if (unit_pending[u].empty() || *unit_pending[u].begin() > start) break;
+          grant_unit_until(u, *unit_pending[u].begin());
+        }
         memories_[u]->forget_before(static_cast<Cycle>(start));
         const auto k = p.take(static_cast<Cycle>(start), static_cast<Cycle>(avail), rays.build(f, u, w, id, regs[u]), reader);
-        done = transfer(static_cast<Cycles>(k.done), answer);
-        p.retire(k.handle, k.done, static_cast<Cycle>(done));
+        if (shared) {
+          pending.push({static_cast<Cycles>(k.done), seq++, u, id, answer, 0, k.handle, k.done});
+          unit_pending[u].insert(static_cast<Cycles>(k.done));
+          done = static_cast<Cycles>(k.done);
+        } else {
+          done = transfer(static_cast<Cycles>(k.done), answer);
+          p.retire(k.handle, k.done, static_cast<Cycle>(done));
+        }
       } else {
+        grant_unit_until(u, ~Cycles{0});  // it is free once the bus has taken its last answer
         start = std::max(unit_free[u], avail);
         const bool through_cache = timed[u].cache;
         if (through_cache) memories_[u]->forget_before(static_cast<Cycle>(start));
@@ -240,31 +304,39 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
                                                       no_state);
                                                 },
                                                 no_phase));
-        done = transfer(end, answer);
-        timed[u].bus_stall += done - end;
-        unit_free[u] = done;
+        if (shared) {
+          pending.push({end, seq++, u, id, answer, end, 0, 0});
+          unit_pending[u].insert(end);
+          done = end;
+        } else {
+          done = transfer(end, answer);
+          unit_free[u] = done;
+        }
       }
       fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], queued[u].occupancy_after_push(avail, start));
       done_all = std::max(done_all, done);
       popped = std::max(popped, start);
     }
     last_pop.push_back(popped);
-    work.answered(done_all, id);
+    if (!shared) work.answered(done_all, id);  // else when its last answer is granted
   };
 
-  // The GPP's work in its order (GppWork). The analytic level decides to write the next ray
-  // as soon as the GPP is free, before it knows when the FIFOs have room (issue() waits for
-  // it); the SystemC GPP knows, and handles an answer due meanwhile first.
+  // The GPP's work in its order (GppWork), as the SystemC GPP does it: a completion due, else
+  // the next ray once every FIFO has room, else wait for whichever comes first.
   constexpr Cycles never = ~Cycles{0};
   for (;;) {
-    const auto next = work.next(g, work.has_ray() ? g : never, never, work.due(never) == never);
+    grant_until(g);
+    const Cycles room = work.has_ray() ? room_time() : never;
+    const auto next = work.next(g, room, never, work.due(never) == never && pending.empty());
     if (next == GppWork<T, Cycles>::Next::done) break;
     if (next == GppWork<T, Cycles>::Next::retire) {
       if (work.retire().second) g += arch_.gpp.cycles_per_hit;
     } else if (next == GppWork<T, Cycles>::Next::issue) {
       issue(work.take_ray());
     } else {
-      g = work.due(never);  // the GPP waits for the next answer
+      const Cycles t = std::min(work.due(never), room);
+      if (!pending.empty() && pending.top().at <= t) grant_until(pending.top().at);  // may complete a ray earlier
+      else g = t;  // the GPP waits
     }
   }
   out.makespan = g;
