@@ -155,8 +155,11 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   const FunctionalFrame<T>& f = frame_;
   const auto& regs = plan_.registers();
 
-  std::vector<Cycles> last_pop;  // per ray in issue order: when the last FIFO popped it (FIFO room)
-  last_pop.reserve(f.ray_count());
+  // Per ray in issue order: when the last FIFO popped it (FIFO room), once every unit has.
+  std::vector<std::uint32_t> issue_order;
+  issue_order.reserve(f.ray_count());
+  std::vector<Cycles> popped_at(f.ray_count(), 0);
+  std::vector<std::uint32_t> popped_by(f.ray_count(), 0);  // units that have popped it
   std::vector<Cycles> unit_free(units, 0);
   // Each frame's time starts at 0 here, and every unit is idle when a frame starts.
   const bool pipelined = arch_.iu.model == IuModel::pipelined;
@@ -180,9 +183,11 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
 
   // A shared bus grants first come first served (hw/bus.h): the units' answers wait here
   // and are granted in the order of their requests, when the GPP's time passes them (before
-  // its own writes), or earlier when a unit must know when it is free again (it waits for
-  // its answer's transfer). An answer granted that early may take the bus before a write the
-  // GPP makes later in its time but earlier than the answer: the level's error.
+  // its own writes) or when the GPP waits. A serial unit waits for its answer's transfer, so
+  // a ray that reaches it meanwhile waits in its FIFO (`waiting`) and starts when the answer
+  // is granted. A pipelined unit's slots free as its answers leave: it takes its next ray
+  // once the answers that leave before it could have are granted, which may grant them before
+  // a write the GPP makes later in its time but earlier than they: the level's error there.
   struct Pending {
     Cycles at;
     std::uint64_t seq;
@@ -195,6 +200,12 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   };
   std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> pending;
   std::vector<std::multiset<Cycles>> unit_pending(units);  // per unit: its answers' requests
+  struct Waiting {
+    std::uint32_t ray;
+    Cycles avail;
+  };
+  std::vector<std::deque<Waiting>> waiting(units);  // serial: rays in its FIFO while its answer waits
+  std::function<void(std::uint32_t, std::uint32_t, Cycles)> start_serial;
   std::vector<std::uint32_t> answers_left(f.ray_count(), 0);
   std::vector<Cycles> ray_done(f.ray_count(), 0);
   std::uint64_t seq = 0;
@@ -209,6 +220,11 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     unit_pending[a.unit].erase(unit_pending[a.unit].find(a.at));
     ray_done[a.ray] = std::max(ray_done[a.ray], done);
     if (--answers_left[a.ray] == 0) work.answered(ray_done[a.ray], a.ray);
+    if (!pipelined && !waiting[a.unit].empty()) {  // the next ray in its FIFO
+      const Waiting w = waiting[a.unit].front();
+      waiting[a.unit].pop_front();
+      start_serial(a.unit, w.ray, w.avail);
+    }
   };
   auto grant_until = [&](Cycles t) {  // every answer requested at or before t
     while (!pending.empty() && pending.top().at <= t) {
@@ -228,29 +244,74 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   std::vector<Cycles> miss_cycles(units);  // a ray that enters none of the unit's spheres
   for (std::uint32_t u = 0; u < units; ++u) miss_cycles[u] = f.cycles(nullptr, u);
   // When every ray FIFO has room for the next ray: when each unit popped the ray `depth`
-  // places before it (as the SystemC GPP reads it off its FIFOs).
+  // places before it (as the SystemC GPP reads it off its FIFOs); `unknown` while a unit has
+  // yet to pop it (it waits for its answer's transfer).
+  constexpr Cycles unknown = ~Cycles{0} - 1;
   auto room_time = [&]() {
-    const std::size_t n = last_pop.size();  // rays issued so far
-    return depth && n >= depth ? std::max(g, last_pop[n - depth]) : g;
+    const std::size_t n = issue_order.size();  // rays issued so far
+    if (!depth || n < depth) return g;
+    const std::uint32_t id = issue_order[n - depth];
+    return popped_by[id] == units ? std::max(g, popped_at[id]) : unknown;
+  };
+  auto popped = [&](std::uint32_t u, std::uint32_t id, Cycles avail, Cycles start) {
+    fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], queued[u].occupancy_after_push(avail, start));
+    popped_at[id] = std::max(popped_at[id], start);
+    ++popped_by[id];
+  };
+  auto answer_bytes = [&](std::uint32_t id) -> std::uint64_t {
+    return f.rays[id].kind == RayKind::primary ? Bytes<T>::nearest_answer : Bytes<T>::shadow_answer;
+  };
+  // A serial unit starts ray `id` (arrived at `avail`) when it is free: its time on it, then
+  // its answer (at once on an ideal bus; granted in order on a shared one).
+  start_serial = [&](std::uint32_t u, std::uint32_t id, Cycles avail) {
+    const UnitRayWork* w = f.find(id, u);
+    const Cycles start = std::max(unit_free[u], avail);
+    reader.memory = memories_[u].get();
+    const bool through_cache = timed[u].cache;
+    if (through_cache) memories_[u]->forget_before(static_cast<Cycle>(start));
+    // On-chip memory: the trace holds the ray's cycles. Through a cache: visit by visit.
+    const Cycles end = !through_cache ? start + f.cycles(w, u)
+                                      : static_cast<Cycles>(serial_ray(
+                                            f, u, w, static_cast<Cycle>(start), transform, true,
+                                            [&](const VisitWork& v, Cycle t) {
+                                              return cached_visit(
+                                                  cached[u], f.rays[id], v, t,
+                                                  [&](const VisitStream& s, Cycle r, BurstConsumer& c) {
+                                                    return reader.read(s, r, c);
+                                                  },
+                                                  no_state);
+                                            },
+                                            no_phase));
+    popped(u, id, avail, start);
+    if (shared) {
+      pending.push({end, seq++, u, id, answer_bytes(id), end, 0, 0});
+      unit_pending[u].insert(end);
+      return;
+    }
+    const Cycles done = transfer(end, answer_bytes(id));
+    unit_free[u] = done;
+    ray_done[id] = std::max(ray_done[id], done);
+    if (--answers_left[id] == 0) work.answered(ray_done[id], id);
   };
   auto issue = [&](std::uint32_t id) {
     g += arch_.gpp.cycles_per_ray;  // room first (the GPP's rule waited for it), then the ray is generated
+    if (shared) grant_until(g);  // answers requested before the GPP's write take the bus first
     // Every later request is at or after g (the GPP's time never decreases, and a unit
     // answers after the ray arrived): grants that ended by then can no longer matter.
-    if (shared) grant_until(g);  // answers requested before the GPP's write take the bus first
     bus.forget_before(g);
     if (frame_dram) frame_dram->forget_before(g);
     g = transfer(g, Bytes<T>::ray_bytes(arch_.top_tree()));
     const Cycles avail = g;
     const RayKind kind = f.rays[id].kind;
     ++out.rays[static_cast<int>(kind)];
-    const std::uint64_t answer = kind == RayKind::primary ? Bytes<T>::nearest_answer : Bytes<T>::shadow_answer;
-    Cycles done_all = 0, popped = 0;
     ++issued;
+    issue_order.push_back(id);
     answers_left[id] = static_cast<std::uint32_t>(units);
     if (simple) {  // serial units, ideal bus, on-chip memories: the common case, kept tight
+      const std::uint64_t answer = answer_bytes(id);
       out.bus_transfers += units;
       out.bus_bytes += units * answer;
+      Cycles done_all = 0, last = 0;
       for (std::uint32_t u = 0; u < units; ++u) {
         const Cycles start = std::max(unit_free[u], avail);
         const UnitRayWork* w = f.find(id, u);
@@ -258,67 +319,42 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
         unit_free[u] = done;
         fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], queued[u].occupancy_after_push(avail, start));
         done_all = std::max(done_all, done);
-        popped = std::max(popped, start);
+        last = std::max(last, start);
       }
-      last_pop.push_back(popped);
+      popped_at[id] = last;
+      popped_by[id] = static_cast<std::uint32_t>(units);
       work.answered(done_all, id);
       return;
     }
     for (std::uint32_t u = 0; u < units; ++u) {
+      if (!pipelined) {
+        if (shared && (!unit_pending[u].empty() || !waiting[u].empty())) waiting[u].push_back({id, avail});
+        else start_serial(u, id, avail);
+        continue;
+      }
+      PipelinedUnitTiming& p = pipes_[u];
       const UnitRayWork* w = f.find(id, u);
       reader.memory = memories_[u].get();
-      Cycles start, done;
-      if (pipelined) {
-        PipelinedUnitTiming& p = pipes_[u];
-        // Its slots free as its answers leave: those that leave by the time it could take the ray.
-        for (;;) {
-          start = std::max(static_cast<Cycles>(p.ready()), avail);
-          if (unit_pending[u].empty() || *unit_pending[u].begin() > start) break;
-          grant_unit_until(u, *unit_pending[u].begin());
-        }
-        memories_[u]->forget_before(static_cast<Cycle>(start));
-        const auto k = p.take(static_cast<Cycle>(start), static_cast<Cycle>(avail), rays.build(f, u, w, id, regs[u]), reader);
-        if (shared) {
-          pending.push({static_cast<Cycles>(k.done), seq++, u, id, answer, 0, k.handle, k.done});
-          unit_pending[u].insert(static_cast<Cycles>(k.done));
-          done = static_cast<Cycles>(k.done);
-        } else {
-          done = transfer(static_cast<Cycles>(k.done), answer);
-          p.retire(k.handle, k.done, static_cast<Cycle>(done));
-        }
-      } else {
-        grant_unit_until(u, ~Cycles{0});  // it is free once the bus has taken its last answer
-        start = std::max(unit_free[u], avail);
-        const bool through_cache = timed[u].cache;
-        if (through_cache) memories_[u]->forget_before(static_cast<Cycle>(start));
-        // On-chip memory: the trace holds the ray's cycles. Through a cache: visit by visit.
-        const Cycles end = !through_cache ? start + f.cycles(w, u)
-                                          : static_cast<Cycles>(serial_ray(
-                                                f, u, w, static_cast<Cycle>(start), transform, true,
-                                                [&](const VisitWork& v, Cycle t) {
-                                                  return cached_visit(
-                                                      cached[u], f.rays[id], v, t,
-                                                      [&](const VisitStream& s, Cycle r, BurstConsumer& c) {
-                                                        return reader.read(s, r, c);
-                                                      },
-                                                      no_state);
-                                                },
-                                                no_phase));
-        if (shared) {
-          pending.push({end, seq++, u, id, answer, end, 0, 0});
-          unit_pending[u].insert(end);
-          done = end;
-        } else {
-          done = transfer(end, answer);
-          unit_free[u] = done;
-        }
+      // Its slots free as its answers leave: those that leave by the time it could take the ray.
+      Cycles start;
+      for (;;) {
+        start = std::max(static_cast<Cycles>(p.ready()), avail);
+        if (unit_pending[u].empty() || *unit_pending[u].begin() > start) break;
+        grant_unit_until(u, *unit_pending[u].begin());
       }
-      fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], queued[u].occupancy_after_push(avail, start));
-      done_all = std::max(done_all, done);
-      popped = std::max(popped, start);
+      memories_[u]->forget_before(static_cast<Cycle>(start));
+      const auto k = p.take(static_cast<Cycle>(start), static_cast<Cycle>(avail), rays.build(f, u, w, id, regs[u]), reader);
+      popped(u, id, avail, start);
+      if (shared) {
+        pending.push({static_cast<Cycles>(k.done), seq++, u, id, answer_bytes(id), 0, k.handle, k.done});
+        unit_pending[u].insert(static_cast<Cycles>(k.done));
+      } else {
+        const Cycles done = transfer(static_cast<Cycles>(k.done), answer_bytes(id));
+        p.retire(k.handle, k.done, static_cast<Cycle>(done));
+        ray_done[id] = std::max(ray_done[id], done);
+        if (--answers_left[id] == 0) work.answered(ray_done[id], id);
+      }
     }
-    last_pop.push_back(popped);
-    if (!shared) work.answered(done_all, id);  // else when its last answer is granted
   };
 
   // The GPP's work in its order (GppWork), as the SystemC GPP does it: a completion due, else
@@ -327,6 +363,10 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   for (;;) {
     grant_until(g);
     const Cycles room = work.has_ray() ? room_time() : never;
+    if (room == unknown) {  // a unit has yet to pop the ray whose slot the next one needs
+      grant_until(pending.top().at);
+      continue;
+    }
     const auto next = work.next(g, room, never, work.due(never) == never && pending.empty());
     if (next == GppWork<T, Cycles>::Next::done) break;
     if (next == GppWork<T, Cycles>::Next::retire) {
