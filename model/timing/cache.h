@@ -75,6 +75,7 @@ class MissWindow {
     head_ = 0;
   }
   void sent(std::uint64_t arrival) {
+    if (head_ == arrivals_.size() || arrival >= arrivals_.back()) return arrivals_.push_back(arrival);
     arrivals_.insert(std::upper_bound(arrivals_.begin() + static_cast<std::ptrdiff_t>(head_), arrivals_.end(), arrival),
                      arrival);
   }

@@ -14,6 +14,7 @@ ObjectMemoryModel::ObjectMemoryModel(const Arch& arch, std::uint32_t unit)
       latency_(arch.memory.model == MemoryModel::latency),
       latency_cycles_(arch.memory.latency_cycles),
       bytes_per_cycle_(arch.memory.bytes_per_cycle),
+      in_order_(arch.iu.model == IuModel::serial),
       line_transfer_(ceil_div(arch.memory.cache.line_bytes, arch.memory.dram.bytes_per_cycle)),
       dram_latency_(arch.memory.dram.latency_cycles) {}
 
@@ -35,6 +36,7 @@ void ObjectMemoryModel::restart_time() {
   window_.clear();
   port_.clear();
   channel_.clear();
+  port_free_ = channel_free_ = 0;
 }
 
 void ObjectMemoryModel::forget_before(Cycle t) {
@@ -46,6 +48,10 @@ Cycle ObjectMemoryModel::fetch(std::uint64_t line, Cycle t) {
   ++counts_.misses;
   counts_.dram_bytes += cache_.line_bytes();
   if (fill_) return fill_->fetch(line * cache_.line_bytes(), t);
+  if (in_order_) {
+    channel_free_ = std::max(channel_free_, t) + line_transfer_;
+    return channel_free_ + dram_latency_;
+  }
   return channel_.reserve(t, line_transfer_) + dram_latency_;
 }
 
@@ -60,8 +66,14 @@ Cycle ObjectMemoryModel::visit(const VisitStream& v, Cycle request, BurstConsume
     arrive_.resize(n);
     // On-chip: at the request, or streamed from the port's first free time after the latency.
     if (latency_) {
-      Cycle stream = r;
-      port_.reserve(r + latency_cycles_, ceil_div(Cycle{n} * bytes, bytes_per_cycle_), &stream);
+      Cycle stream = r + latency_cycles_;
+      const Cycle length = ceil_div(Cycle{n} * bytes, bytes_per_cycle_);
+      if (in_order_) {
+        stream = std::max(stream, port_free_);
+        port_free_ = stream + length;
+      } else {
+        port_.reserve(stream, length, &stream);
+      }
       for (std::uint32_t j = 0; j < n; ++j) arrive_[j] = stream + ceil_div(Cycle{j + 1} * bytes, bytes_per_cycle_);
     } else {
       std::fill(arrive_.begin(), arrive_.end(), r);

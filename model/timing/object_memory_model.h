@@ -102,8 +102,13 @@ class ObjectMemoryModel {
   bool is_cache_ = false;
   Cache cache_;
   MissWindow window_;
+  // A serial unit's requests come in time order: its port and channel are then free after
+  // their last grant (what a calendar reduces to in that case); a pipelined unit's come in
+  // the order it places its rays' reads, and fill the calendars' gaps.
+  const bool in_order_;
   Calendar<Cycle> port_;     // on-chip streaming (latency model)
   Calendar<Cycle> channel_;  // its own DRAM channel
+  Cycle port_free_ = 0, channel_free_ = 0;
   const Cycle line_transfer_, dram_latency_;
   Fill* fill_ = nullptr;
   CacheCounts counts_;
