@@ -22,6 +22,7 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   fs.refit_nodes = run.refit_nodes;
   fs.refit_cycles = run.refit_cycles;
   fs.built_nodes = run.built_nodes;
+  fs.route = run.route;
   fs.image_hash = image.hash();
   fs.frame_time_s = static_cast<double>(run.makespan) * job.arch.cycle_ns() * 1e-9;
   if (job.arch.iu.model == IuModel::pipelined) fs.pipeline = hw::pipeline_config(job.arch);

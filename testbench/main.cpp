@@ -95,6 +95,10 @@ int main(int argc, char** argv) {
   render->add_option("--accel", ro.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
   render->add_option("--top", ro.top, "flat | bvh: every sphere per ray, or a tree over each unit's spheres")
       ->check(CLI::IsMember({"flat", "bvh"}));
+  render->add_option("--route", ro.route,
+                     "broadcast | multicast | ordered: every unit gets every ray, or only those whose bound it "
+                     "enters, or those nearest first, in waves")
+      ->check(CLI::IsMember({"broadcast", "multicast", "ordered"}));
   render->add_option("--sram", ro.sram,
                      "object memory per unit in bytes (64K, 4M); a unit whose spheres need more uses it as a cache "
                      "in front of DRAM (0: no limit)");

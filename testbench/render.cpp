@@ -40,6 +40,7 @@ Arch resolve_arch(const RenderOptions& o) {
   if (!o.split.empty()) a.split = o.split;
   if (o.accel) a.accel = *o.accel;
   if (o.top) a.top = *o.top;
+  if (o.route) a.route.policy = *o.route;
   if (o.sram) {
     a.memory.sram_bytes = parse_bytes(*o.sram, "--sram");
     check_sram(a, "--sram", *o.sram);

@@ -1,6 +1,7 @@
 #include "run_cost.h"
 
 #include "timing/bytes.h"
+#include "timing/gpp_plan.h"
 #include "timing/pipeline_timing.h"
 #include "tech_default.h"
 
@@ -31,6 +32,12 @@ RunCost::RunCost(const std::string& tech_file, const Arch& arch, std::size_t uni
   }
   const bool dbl = arch.precision == "double";
   design_.units.resize(units);
+  if (arch.routed()) {
+    const FpUnits r = hw::router_units(arch);
+    design_.router_adders = r.adders;
+    design_.router_multipliers = r.multipliers;
+    design_.router_register_bytes = units * 6 * (dbl ? 8 : 4);  // a box per unit
+  }
   design_.ray_bytes = ray_bytes(dbl);
   design_.double_precision = dbl;
   if (arch.iu.model == IuModel::pipelined) {
@@ -70,6 +77,7 @@ Cost RunCost::frame(const FrameStats& fs) {
   FrameActivity act;
   act.units.resize(fs.units.size());
   act.bus_bytes = fs.bus_bytes;
+  if (arch_.routed()) act.router_tests = (fs.rays[0] + fs.rays[1]) * fs.units.size();
   act.frame_time_s = fs.frame_time_s;
   for (std::size_t u = 0; u < fs.units.size() && u < design_.units.size(); ++u) {
     const UnitFrameStats& s = fs.units[u];

@@ -14,6 +14,18 @@ std::uint64_t FrameStats::busy() const {
   return b;
 }
 
+double FrameStats::fanout_mean() const {
+  std::uint64_t rays = 0, pairs = 0;
+  for (std::size_t k = 0; k < route.fanout.size(); ++k) rays += route.fanout[k], pairs += k * route.fanout[k];
+  return rays ? static_cast<double>(pairs) / static_cast<double>(rays) : 0;
+}
+
+std::uint64_t FrameStats::fanout_max() const {
+  for (std::size_t k = route.fanout.size(); k-- > 0;)
+    if (route.fanout[k]) return k;
+  return 0;
+}
+
 double FrameStats::efficiency() const {
   return makespan && !units.empty() ? static_cast<double>(busy()) / (static_cast<double>(units.size()) * makespan) : 0;
 }
@@ -105,6 +117,12 @@ nlohmann::json to_json(const FrameStats& f) {
           {"memory_load_bytes", f.memory_load_bytes},
           {"memory_load_cycles", f.memory_load_cycles},
           {"gpp", {{"refit_nodes", f.refit_nodes}, {"refit_cycles", f.refit_cycles}, {"nodes_built", f.built_nodes}}},
+          {"route", {{"fanout_mean", f.fanout_mean()},
+                     {"fanout_max", f.fanout_max()},
+                     {"fanout_histogram", f.route.fanout},
+                     {"cycles", f.route.cycles},
+                     {"skipped", f.route.skipped}}},
+          {"bus_bytes_per_ray", rays > 0 ? static_cast<double>(f.bus_bytes) / rays : 0},
           {"image_hash", hash},
           {"sphere_cycles", f.sphere_cycles},
           {"sphere_entries", f.sphere_entries},
@@ -171,7 +189,8 @@ void StatsWriter::add(const FrameStats& f) {
     // box (--accel bvh), node (--top bvh) and the frame's totals last, so that existing
     // column positions stay.
     out << "frame,iu,spheres,primitives,rays,sphere,transform,primitive,idle,stall,busy,makespan,parallel_efficiency,"
-           "box,node,frame_time_s,energy_j,area_mm2\n";
+           "box,node,frame_time_s,energy_j,area_mm2,fanout_mean,fanout_max,fanout_histogram,route_cycles,route_skipped,"
+           "bus_bytes_per_ray\n";
     for (const FrameStats& x : frames_)
       for (const UnitFrameStats& u : x.units) {
         out << x.frame << ',' << u.id << ',' << u.spheres.size() << ',' << u.primitives << ',' << u.rays << ','
@@ -181,7 +200,11 @@ void StatsWriter::add(const FrameStats& f) {
         if (x.energy) out << x.energy->total;
         out << ',';
         if (area_total_) out << *area_total_;
-        out << '\n';
+        out << ',' << x.fanout_mean() << ',' << x.fanout_max() << ',';
+        for (std::size_t k = 0; k < x.route.fanout.size(); ++k) out << (k ? " " : "") << x.route.fanout[k];
+        const std::uint64_t rays = x.rays[0] + x.rays[1];
+        out << ',' << x.route.cycles << ',' << x.route.skipped << ','
+            << (rays ? static_cast<double>(x.bus_bytes) / static_cast<double>(rays) : 0.0) << '\n';
       }
     out.close();  // a failed flush (disk full) must not be renamed into place
     if (!out) throw std::runtime_error("cannot write " + tmp);

@@ -8,6 +8,7 @@
 #include "cost/cost_model.h"
 #include "timing/pipeline_timing.h"
 #include "timing/unit_cycles.h"
+#include "timing/unit_run.h"
 #include "ref/work.h"
 
 #include <array>
@@ -55,6 +56,7 @@ struct FrameStats {
   std::uint64_t memory_load_bytes = 0;  // geometry moved into object memories this frame
   std::uint64_t memory_load_cycles = 0;  // bus cycles of that move, inside the makespan (0 on an ideal bus)
   std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;  // --top bvh: the GPP's work on the units' trees
+  hw::RouteRun route;  // --route: the router's cycles, spared (ray, unit) pairs, fan-out histogram
   std::uint64_t image_hash = 0;
   std::vector<UnitFrameStats> units;
   std::vector<std::uint64_t> sphere_cycles;  // per sphere: busy cycles spent on it (whichever unit)
@@ -65,6 +67,8 @@ struct FrameStats {
   std::optional<hw::PipelineConfig> pipeline;
 
   std::uint64_t busy() const;
+  double fanout_mean() const;
+  std::uint64_t fanout_max() const;
   // Sum of busy cycles / (units x makespan).
   double efficiency() const;
   double idle_fraction() const;

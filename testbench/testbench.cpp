@@ -190,6 +190,8 @@ class Testbench : public sc_module {
     run.refit_cycles = g.refit_cycles;
     run.built_nodes = g.built_nodes;
     const auto& f = engine_->functional();
+    run.route.cycles = g.route_cycles;
+    hw::route_figures(f, engine_->units(), run.route);
     for (std::size_t u = 0; u < engine_->units(); ++u) {
       const hw::UnitStats& s = engine_->unit(u).stats();
       const hw::ObjectMemory& m = engine_->memory(u);

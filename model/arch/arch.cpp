@@ -118,6 +118,21 @@ void read_balance(const JsonIn& j, Arch& a) {
   if (auto v = j.find("locality")) a.locality = v->number(0, 1);
 }
 
+// "route": a policy's name, or {"policy", "transfer", "wave", "adders", "multipliers"}.
+void read_route(const JsonIn& j, Arch& a) {
+  const std::initializer_list<const char*> policies = {"broadcast", "multicast", "ordered"};
+  if (!j.is_object()) {
+    a.route.policy = one_of(j, policies);
+    return;
+  }
+  j.only_keys({"policy", "transfer", "wave", "adders", "multipliers"});
+  if (auto v = j.find("policy")) a.route.policy = one_of(*v, policies);
+  if (auto v = j.find("transfer")) a.route.transfer = one_of(*v, {"mask", "per_unit"});
+  a.route.wave = static_cast<int>(j.integer_or("wave", a.route.wave, 1, 65536));
+  a.route.units.adders = static_cast<int>(j.integer_or("adders", a.route.units.adders, 0, 1024));
+  a.route.units.multipliers = static_cast<int>(j.integer_or("multipliers", a.route.units.multipliers, 0, 1024));
+}
+
 nlohmann::json iu_json(const IuConfig& iu) {
   const auto unit = [](const IuConfig::Unit& u) { return nlohmann::json{{"adders", u.adders}, {"multipliers", u.multipliers}}; };
   return {{"model", to_string(iu.model)},
@@ -143,8 +158,8 @@ void check_sram(const Arch& a, const std::string& file, const std::string& place
 Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   const JsonIn root(doc, file);
   root.only_keys({"format", "comment", "clock_mhz", "ius", "costs", "ray_fifo_depth", "bus", "memory", "gpp",
-                  "level", "quantum", "balance", "subdivide", "split_rule", "split", "accel", "top", "kernel", "precision",
-                  "sync_every_ray", "iu"});
+                  "level", "quantum", "balance", "subdivide", "split_rule", "split", "accel", "top", "route", "kernel",
+                  "precision", "sync_every_ray", "iu"});
   const std::string format = root.at("format").string();
   if (format != "oprt-arch/1") root.at("format").fail("unsupported format \"" + format + "\" (expected oprt-arch/1)");
   Arch a;
@@ -221,6 +236,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   if (auto v = root.find("split")) a.split = one_of(*v, {"count", "extent"});
   if (auto v = root.find("accel")) a.accel = one_of(*v, {"brute", "bvh"});
   if (auto v = root.find("top")) a.top = one_of(*v, {"flat", "bvh"});
+  if (auto v = root.find("route")) read_route(*v, a);
   if (auto v = root.find("kernel")) a.kernel = *kernel_named(one_of(*v, {"moller", "watertight"}));
   if (auto v = root.find("precision")) a.precision = one_of(*v, {"float", "double"});
   a.sync_every_ray = root.boolean_or("sync_every_ray", a.sync_every_ray);
@@ -270,6 +286,8 @@ nlohmann::json without_locality(const Arch& a) {
           {"split", a.split},
           {"accel", a.accel},
           {"top", a.top},
+          {"route", {{"policy", a.route.policy}, {"transfer", a.route.transfer}, {"wave", a.route.wave},
+                     {"adders", a.route.units.adders}, {"multipliers", a.route.units.multipliers}}},
           {"kernel", to_string(a.kernel)},
           {"precision", a.precision},
           {"sync_every_ray", a.sync_every_ray},

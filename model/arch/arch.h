@@ -101,6 +101,14 @@ struct Arch {
   std::string split;
   std::string accel = "brute";
   std::string top = "flat";  // what a unit walks over its spheres: "flat" (every one) or "bvh" (ref/top_tree.h)
+  // Which units a ray goes to (ref/route.h): "broadcast" (every one, the paper's),
+  // "multicast" (those whose bound it enters) or "ordered" (those, nearest first, in waves).
+  struct {
+    std::string policy = "broadcast";
+    std::string transfer = "mask";  // a routed ray on the bus: one transfer with a unit mask, or "per_unit"
+    int wave = 1;                   // ordered: units per wave
+    IuConfig::Unit units;           // the router's box-test unit: adders, multipliers (0: II 1)
+  } route;
   Kernel kernel = Kernel::moller;
   std::string precision = "float";
   // Simulation only: make every unit wait out each ray in simulation time even where
@@ -112,6 +120,7 @@ struct Arch {
   // The costs of the kernel this run uses.
   const KernelCosts& kernel_costs() const { return costs.of(kernel); }
   bool top_tree() const { return top == "bvh"; }
+  bool routed() const { return route.policy != "broadcast"; }
   // Whether the balance policy takes a locality (spatial, feedback).
   bool balance_takes_locality() const { return balance == "spatial" || balance == "feedback"; }
 };

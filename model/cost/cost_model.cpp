@@ -227,6 +227,14 @@ Cost area_mm2(const Tech& t, const Design& d) {
   b.charge("fp_inverters", n * d.iu.inverters, t.fp_inverse.area_mm2, "fp_inverse area");
   b.charge("register_files", n * d.iu.register_files, t.register_file.area_mm2, "register_file area");
   b.charge("box_units", n, fp_area(t, d.iu.box_adders, d.iu.box_multipliers), "fp_add and fp_multiply area");
+  b.charge("router", 1.0,
+           [&]() -> std::optional<double> {
+             const std::optional<double> fp = fp_area(t, d.router_adders, d.router_multipliers);
+             const std::optional<double> rf = per_byte(t.register_file.area_mm2, t.register_file.bytes);
+             if (!fp || (d.router_register_bytes && !rf)) return std::nullopt;
+             return *fp + static_cast<double>(d.router_register_bytes) * rf.value_or(0);
+           }(),
+           "fp_add, fp_multiply or register_file area");
   b.charge("node_units", n, fp_area(t, d.iu.node_adders, d.iu.node_multipliers), "fp_add and fp_multiply area");
   double config = 0;
   for (const UnitSize& u : d.units) config += static_cast<double>(u.config_bytes);
@@ -281,6 +289,13 @@ Cost frame_energy_j(const Tech& t, const Design& d, const OpCounts& per_op, cons
   // units run them (their own in a pipelined IU, the adder and multiplier of a serial one).
   b.charge("box_tests", 1.0, op_energy(t, box, compare), "fp_add and fp_multiply energy");
   b.charge("node_tests", 1.0, op_energy(t, node, compare), "fp_add and fp_multiply energy");
+  // The router: a box test per unit bound a ray is tested against, and the bound's read.
+  std::optional<double> router = op_energy(t, per_op.box.times(f.router_tests), compare);
+  if (router && f.router_tests) {
+    if (t.register_file.energy_pj) *router += static_cast<double>(f.router_tests) * *t.register_file.energy_pj;
+    else router.reset();
+  }
+  b.charge("router", 1.0, router, "fp_add, fp_multiply or register_file energy");
   b.charge("register_file", d.iu.register_accesses_per_op * static_cast<double>(ops.total() + box.total() + node.total()),
            t.register_file.energy_pj, "register_file energy");
 

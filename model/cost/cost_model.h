@@ -116,6 +116,10 @@ struct Design {
   std::vector<UnitSize> units;  // one per instantiated IU
   std::uint32_t ray_bytes = 0;  // one FIFO entry (hw::Bytes<T>::ray)
   bool double_precision = false;
+  // --route: the GPP's router, a box-test unit with its adders and multipliers, and a
+  // register per unit bound.
+  int router_adders = 0, router_multipliers = 0;
+  std::uint64_t router_register_bytes = 0;
 };
 
 // One unit's counters for one frame.
@@ -133,6 +137,7 @@ struct UnitActivity {
 
 struct FrameActivity {
   std::vector<UnitActivity> units;  // in the order of Design::units
+  std::uint64_t router_tests = 0;   // --route: unit bounds the router tested (a box test and a register read each)
   std::uint64_t bus_bytes = 0;
   double frame_time_s = 0;  // makespan at the architecture's clock
 };

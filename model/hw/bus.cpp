@@ -24,13 +24,13 @@ Bus::Bus(const sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter
     timeline_ = nullptr;
 }
 
-void Bus::map(std::uint64_t base, std::uint64_t size, std::vector<int> targets, const char* what) {
+void Bus::map(std::uint64_t base, std::uint64_t size, std::vector<int> targets, const char* what, bool masked) {
   auto at = std::upper_bound(regions_.begin(), regions_.end(), base,
                              [](std::uint64_t b, const Region& r) { return b < r.base; });
   if ((at != regions_.end() && base + size > at->base) ||
       (at != regions_.begin() && std::prev(at)->base + std::prev(at)->size > base))
     SC_REPORT_FATAL(name(), "overlapping address regions");
-  regions_.insert(at, {base, size, std::move(targets), what});
+  regions_.insert(at, {base, size, std::move(targets), what, masked});
   last_ = ~std::size_t{0};
 }
 
@@ -70,10 +70,13 @@ void Bus::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
   }
   p.set_address(a - r->base);
   p.set_response_status(tlm::TLM_OK_RESPONSE);
-  for (int t : r->targets) {
+  const std::size_t mask_bytes = r->masked ? (r->targets.size() + 7) / 8 : 0;
+  if (mask_bytes > p.get_data_length()) p.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
+  const unsigned char* mask = p.get_data_ptr() + p.get_data_length() - mask_bytes;
+  for (std::size_t i = 0; i < r->targets.size() && p.get_response_status() == tlm::TLM_OK_RESPONSE; ++i) {
+    if (r->masked && !(mask[i / 8] & (1u << (i % 8)))) continue;
     sc_time d = delay;
-    out[t]->b_transport(p, d);
-    if (p.get_response_status() != tlm::TLM_OK_RESPONSE) break;
+    out[r->targets[i]]->b_transport(p, d);
   }
   p.set_address(a);
 }

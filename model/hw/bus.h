@@ -47,9 +47,11 @@ class Bus : public sc_core::sc_module {
   Bus(const sc_core::sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter* vcd,
       TimelineWriter* timeline = nullptr);
 
-  // [base, base + size) goes to out[targets...]; more than one target is a multicast.
-  // `what` names its transfers in the timeline ("ray", "answer", ...).
-  void map(std::uint64_t base, std::uint64_t size, std::vector<int> targets, const char* what = "transfer");
+  // [base, base + size) goes to out[targets...]; more than one target is a multicast, to
+  // every target, or (`masked`) to those whose bit is set in the unit mask that ends the
+  // transfer's bytes (bit i: targets[i]). `what` names its transfers in the timeline.
+  void map(std::uint64_t base, std::uint64_t size, std::vector<int> targets, const char* what = "transfer",
+           bool masked = false);
 
   std::uint64_t busy_cycles() const { return busy_cycles_; }
   std::uint64_t transfers() const { return transfers_; }
@@ -61,6 +63,7 @@ class Bus : public sc_core::sc_module {
     std::uint64_t base, size;
     std::vector<int> targets;
     const char* what;
+    bool masked;
   };
   void b_transport(int from, tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
 

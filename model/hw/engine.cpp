@@ -50,6 +50,7 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
     every_fifo.push_back(base + 2);
   }
   bus_->map(addr::broadcast_rays, addr::region_size, every_fifo, "ray");
+  if (arch.routed()) bus_->map(addr::multicast_rays, addr::region_size, every_fifo, "ray", true);
   if (fill_over_bus) {
     bus_->out.bind(dram_->in);
     bus_->map(addr::dram_base, addr::dram_size, {1 + 3 * static_cast<int>(units)}, "cache fill");

@@ -36,6 +36,9 @@ namespace oprt::hw {
 namespace addr {
 constexpr std::uint64_t gpp_hits = 0x0400'0000;        // answers from the units
 constexpr std::uint64_t broadcast_rays = 0x0800'0000;  // a ray written here enters every FIFO
+// --route, transfer "mask": the ray's bytes, then a unit mask (one bit per unit): it enters
+// the FIFOs of the units the mask names.
+constexpr std::uint64_t multicast_rays = 0x0900'0000;
 constexpr std::uint64_t region_size = 0x1000;
 constexpr std::uint64_t iu_base = 0x1000'0000;
 constexpr std::uint64_t iu_stride = 0x0100'0000;

@@ -31,10 +31,15 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
   if (vcd_) {
     vcd_in_flight_ = vcd_->add(this->name(), "rays_in_flight", 32);
     vcd_frame_ = vcd_->add(this->name(), "frame", 32);
-    if (arch.top_tree()) vcd_refit_ = vcd_->add(this->name(), "refit", 1);
+    if (arch.top_tree() || arch.routed()) vcd_refit_ = vcd_->add(this->name(), "refit", 1);
+    if (arch.routed()) {
+      vcd_routing_ = vcd_->add(this->name(), "routing", 1);
+      vcd_fanout_ = vcd_->add(this->name(), "fanout", 16);
+    }
   }
   if (timeline_ && (track_ = timeline_->track(this->name(), "gpp", "GPP")) == TimelineWriter::kNotTraced)
     timeline_ = nullptr;
+  if (timeline_ && arch.routed()) router_track_ = timeline_->track(std::string(this->name()) + ".router", "gpp", "Router");
   SC_THREAD(run);
 }
 
@@ -79,12 +84,26 @@ void Gpp<T>::write(tlm::tlm_generic_payload& p) {
   clock_.advance_to(sim + delay);
 }
 
+// The FIFOs the next write goes to: every one, or a routed ray's wave's.
+template <typename T>
+template <typename F>
+void Gpp<T>::for_next_fifos(F&& f) const {
+  const auto wave = work_->wave(work_->peek_ray());
+  if (!wave.first) {
+    for (int i = 0; i < fifos.size(); ++i) f(i);
+    return;
+  }
+  for (const std::uint32_t* p = wave.first; p != wave.last; ++p) f(static_cast<int>(*p & ~kWaveEnd));
+}
+
 template <typename T>
 int Gpp<T>::full_fifo() const {
   if (arch_.fifo_depth == 0) return -1;
-  for (int i = 0; i < fifos.size(); ++i)
-    if (!fifos[i]->has_space()) return i;
-  return -1;
+  int full = -1;
+  for_next_fifos([&](int i) {
+    if (full < 0 && !fifos[i]->has_space()) full = i;
+  });
+  return full;
 }
 
 // Wait for an answer, or for room in the (first) full FIFO if a ray is waiting to be
@@ -116,7 +135,7 @@ template <typename T>
 sc_time Gpp<T>::room_time() const {
   sc_time t = clock_.now();
   if (arch_.fifo_depth == 0) return t;
-  for (int i = 0; i < fifos.size(); ++i) t = std::max(t, fifos[i]->space_time());
+  for_next_fifos([&](int i) { t = std::max(t, fifos[i]->space_time()); });
   return t;
 }
 
@@ -125,21 +144,62 @@ void Gpp<T>::trace_in_flight() {
   if (vcd_) vcd_->change(vcd_in_flight_, clock_.now().value(), issued_ - retired_);
 }
 
+// Write ray `id`'s next wave: a new ray is generated first, and routed when its units are
+// chosen by their bounds (gpp_plan.h); then the write, to every FIFO (broadcast), to the
+// wave's FIFOs in one transfer with a unit mask, or one transfer per unit.
 template <typename T>
 void Gpp<T>::issue(std::uint32_t id) {
   clock_.advance_to(room_time());  // as at `at`: room first, then the ray is generated
-  const sc_time start = clock_.now();
-  clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_ray));
-  if (timeline_) timeline_->slice(track_, "issue", start.value(), clock_.now().value(), {{"ray", id}});
-  pending_[id].answers_left = units_;
-  ++issued_;
-  ++stats_.rays[static_cast<int>(frame_.rays[id].kind)];
-  trace_in_flight();
+  const auto wave = work_->wave(id);
+  const std::size_t n = wave.size(units_);
+  if (wave.initial) {
+    const sc_time start = clock_.now();
+    clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_ray));
+    if (timeline_) timeline_->slice(track_, "issue", start.value(), clock_.now().value(), {{"ray", id}});
+    ++issued_;
+    ++stats_.rays[static_cast<int>(frame_.rays[id].kind)];
+    if (const std::uint64_t route = plan_.route_cycles(work_->entered(id))) {
+      const sc_time from = clock_.now();
+      if (vcd_) vcd_->change(vcd_routing_, from.value(), 1);
+      clock_.advance(cycle_ * static_cast<double>(route));
+      if (vcd_) vcd_->change(vcd_routing_, clock_.now().value(), 0);
+      if (router_track_ >= 0)
+        timeline_->slice(router_track_, "route", from.value(), clock_.now().value(), {{"ray", id}, {"units", n}});
+      stats_.route_cycles += route;
+    }
+    trace_in_flight();
+  }
+  work_->wrote(id);
+  pending_[id].answers_left = static_cast<std::uint32_t>(n);
+  if (vcd_ && vcd_fanout_ >= 0) vcd_->change(vcd_fanout_, clock_.now().value(), n);
+  if (n == 0) {  // routed to no unit: the router's answer (a miss, not occluded) is the ray's
+    completed_at_[id] = clock_.now();
+    work_->answered(clock_.now(), id);
+    return;
+  }
   const unsigned bytes = Bytes<T>::ray_bytes(arch_.top_tree());
-  unsigned char* data = ray_bytes_.data(bytes);
+  unsigned char* data = ray_bytes_.data(bytes + units_);
   WireRay<T>::write(data, id, frame_.rays[id], arch_.top_tree());
-  prepare(ray_, tlm::TLM_WRITE_COMMAND, addr::broadcast_rays, data, bytes);
-  write(ray_);
+  if (!wave.first) {
+    prepare(ray_, tlm::TLM_WRITE_COMMAND, addr::broadcast_rays, data, bytes);
+    write(ray_);
+  } else if (arch_.route.transfer == "mask") {
+    // The unit mask follows the ray's bytes (one bit per unit); the bus delivers it to those.
+    const unsigned mask_bytes = (units_ + 7) / 8;
+    std::fill(data + bytes, data + bytes + mask_bytes, 0);
+    for (const std::uint32_t* p = wave.first; p != wave.last; ++p) {
+      const std::uint32_t u = *p & ~kWaveEnd;
+      data[bytes + u / 8] |= static_cast<unsigned char>(1u << (u % 8));
+    }
+    prepare(ray_, tlm::TLM_WRITE_COMMAND, addr::multicast_rays, data, bytes + mask_bytes);
+    write(ray_);
+  } else {
+    for (const std::uint32_t* p = wave.first; p != wave.last; ++p) {
+      prepare(ray_, tlm::TLM_WRITE_COMMAND, addr::iu_window(static_cast<int>(*p & ~kWaveEnd)) + addr::iu_ray_fifo, data,
+              bytes);
+      write(ray_);
+    }
+  }
 }
 
 template <typename T>
@@ -291,7 +351,9 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     const auto next = work_->next(clock_.now(), ready, never, retired_ == issued_);
     if (next == GppWork<T, sc_time>::Next::done) break;
     if (next == GppWork<T, sc_time>::Next::retire) {
-      retire(work_->retire().first, cmd);
+      const auto r = work_->retire();
+      if (r.next_wave) clock_.advance_to(completed_at_[r.ray]);  // the wave is in; the next one is queued
+      else retire(r.ray, cmd);
     } else if (next == GppWork<T, sc_time>::Next::issue) {
       issue(work_->take_ray());
     } else {

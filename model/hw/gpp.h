@@ -46,6 +46,7 @@ struct GppStats {
   // --top bvh: nodes of the units' trees over their spheres refitted this frame, the GPP's
   // cycles for that, and nodes built anew (the assignment changed)
   std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;
+  std::uint64_t route_cycles = 0;  // --route: the router's, on the GPP's timeline
   std::vector<std::uint64_t> unit_memory_load_bytes;  // per unit: its share of memory_load_bytes
 };
 
@@ -81,7 +82,9 @@ class Gpp : public sc_core::sc_module, public Waiter {
   void render_frame(const FrameCommand& cmd);
   void load_memories();
   void write(tlm::tlm_generic_payload& p);
-  int full_fifo() const;  // index of a full ray FIFO, or -1
+  template <typename F>
+  void for_next_fifos(F&& f) const;
+  int full_fifo() const;  // index of a full ray FIFO the next write goes to, or -1
   void wait_for_space_or_answers(bool want_space, const sc_core::sc_time* deadline);
   sc_core::sc_time room_time() const;
   void issue(std::uint32_t ray);
@@ -114,9 +117,9 @@ class Gpp : public sc_core::sc_module, public Waiter {
   std::function<void(std::uint64_t, std::uint64_t)> progress_;
   std::uint64_t primaries_retired_ = 0, pixel_count_ = 0;
   VcdWriter* vcd_;
-  int vcd_in_flight_ = -1, vcd_frame_ = -1, vcd_refit_ = -1;
+  int vcd_in_flight_ = -1, vcd_frame_ = -1, vcd_refit_ = -1, vcd_routing_ = -1, vcd_fanout_ = -1;
   TimelineWriter* timeline_;  // null when not traced
-  int track_ = -1;
+  int track_ = -1, router_track_ = -1;
   // For the watchdog (plain stores): in a frame, and what it waits for (-1: answers only,
   // else also room in that FIFO).
   bool in_frame_ = false;

@@ -41,6 +41,8 @@ struct WorkRecorder {
     ++work->rays[kind];
   }
   void begin_unit(std::uint32_t) {}
+  void wave_end() {}
+  void skip(std::uint32_t) {}
   void visit(const SphereVisit& v) {
     if (v.sphere != kNone) work->per_sphere[kind][v.sphere] += v.work;
   }

@@ -155,20 +155,18 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   const FunctionalFrame<T>& f = frame_;
   const auto& regs = plan_.registers();
 
-  // Per ray in issue order: when the last FIFO popped it (FIFO room), once every unit has.
-  std::vector<std::uint32_t> issue_order;
-  issue_order.reserve(f.ray_count());
-  std::vector<Cycles> popped_at(f.ray_count(), 0);
-  std::vector<std::uint32_t> popped_by(f.ray_count(), 0);  // units that have popped it
+  // Per unit: the rays written into its FIFO and when it popped each (FIFO room: a write
+  // needs the pop of the ray `depth` writes before it); kept only with bounded FIFOs.
+  const unsigned depth = static_cast<unsigned>(arch_.fifo_depth);
+  std::vector<std::uint64_t> pushes(units, 0);
+  std::vector<std::vector<Cycles>> pops(depth ? units : 0);
   std::vector<Cycles> unit_free(units, 0);
   // Each frame's time starts at 0 here, and every unit is idle when a frame starts.
   const bool pipelined = arch_.iu.model == IuModel::pipelined;
   if (pipelined) pipes_.assign(units, PipelinedUnitTiming(pipeline_config(arch_)));
   fifo_peak_.resize(units, 0);
   std::vector<PopTimes> queued(units);
-  std::uint64_t issued = 0;  // every unit takes every ray
   GppWork<T, Cycles> work(f);
-  const unsigned depth = static_cast<unsigned>(arch_.fifo_depth);
 
   // Rays through caches, and pipelines, read their visits through the unit's memory model.
   const GeometryAddresses<T> addresses(geom_);
@@ -243,20 +241,29 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   const bool simple = !pipelined && !shared && !caches;
   std::vector<Cycles> miss_cycles(units);  // a ray that enters none of the unit's spheres
   for (std::uint32_t u = 0; u < units; ++u) miss_cycles[u] = f.cycles(nullptr, u);
-  // When every ray FIFO has room for the next ray: when each unit popped the ray `depth`
-  // places before it (as the SystemC GPP reads it off its FIFOs); `unknown` while a unit has
-  // yet to pop it (it waits for its answer's transfer).
+  // When the FIFOs of the units the next write goes to have room (as the SystemC GPP reads it
+  // off its FIFOs); `unknown` while one of them has yet to pop the ray whose slot the write
+  // needs (it waits for its answer's transfer).
   constexpr Cycles unknown = ~Cycles{0} - 1;
-  auto room_time = [&]() {
-    const std::size_t n = issue_order.size();  // rays issued so far
-    if (!depth || n < depth) return g;
-    const std::uint32_t id = issue_order[n - depth];
-    return popped_by[id] == units ? std::max(g, popped_at[id]) : unknown;
+  auto fifo_room = [&](std::uint32_t u) -> Cycles {
+    if (!depth || pushes[u] < depth) return 0;
+    const std::uint64_t k = pushes[u] - depth;
+    return k < pops[u].size() ? pops[u][k] : unknown;
   };
-  auto popped = [&](std::uint32_t u, std::uint32_t id, Cycles avail, Cycles start) {
+  auto room_time = [&]() {
+    Cycles t = g;
+    if (!depth) return t;
+    const auto wave = work.wave(work.peek_ray());
+    if (!wave.first) {
+      for (std::uint32_t u = 0; u < units; ++u) t = std::max(t, fifo_room(u));
+    } else {
+      for (const std::uint32_t* p = wave.first; p != wave.last; ++p) t = std::max(t, fifo_room(*p & ~kWaveEnd));
+    }
+    return t;
+  };
+  auto popped = [&](std::uint32_t u, Cycles avail, Cycles start) {
     fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], queued[u].occupancy_after_push(avail, start));
-    popped_at[id] = std::max(popped_at[id], start);
-    ++popped_by[id];
+    if (depth) pops[u].push_back(start);
   };
   auto answer_bytes = [&](std::uint32_t id) -> std::uint64_t {
     return f.rays[id].kind == RayKind::primary ? Bytes<T>::nearest_answer : Bytes<T>::shadow_answer;
@@ -282,7 +289,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
                                                   no_state);
                                             },
                                             no_phase));
-    popped(u, id, avail, start);
+    popped(u, avail, start);
     if (shared) {
       pending.push({end, seq++, u, id, answer_bytes(id), end, 0, 0});
       unit_pending[u].insert(end);
@@ -293,40 +300,57 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     ray_done[id] = std::max(ray_done[id], done);
     if (--answers_left[id] == 0) work.answered(ray_done[id], id);
   };
+  // Write ray `id`'s next wave (every unit when broadcast): the GPP generates and routes a
+  // new ray first; every unit of the wave takes it in FIFO order.
+  const bool mask = arch_.route.transfer == "mask";
+  const std::uint64_t mask_bytes = (units + 7) / 8;
   auto issue = [&](std::uint32_t id) {
-    g += arch_.gpp.cycles_per_ray;  // room first (the GPP's rule waited for it), then the ray is generated
+    const auto wave = work.wave(id);
+    const std::size_t n = wave.size(units);
+    if (wave.initial) {
+      g += arch_.gpp.cycles_per_ray;  // room first (the GPP's rule waited for it), then the ray is generated
+      const std::uint64_t route = plan_.route_cycles(work.entered(id));
+      g += route;
+      out.route.cycles += route;
+    }
+    work.wrote(id);
+    const RayKind kind = f.rays[id].kind;
+    if (wave.initial) ++out.rays[static_cast<int>(kind)];
+    answers_left[id] = static_cast<std::uint32_t>(n);
+    if (n == 0) {  // routed to no unit: the router's answer is the ray's
+      work.answered(g, id);
+      return;
+    }
     if (shared) grant_until(g);  // answers requested before the GPP's write take the bus first
     // Every later request is at or after g (the GPP's time never decreases, and a unit
     // answers after the ray arrived): grants that ended by then can no longer matter.
     bus.forget_before(g);
     if (frame_dram) frame_dram->forget_before(g);
-    g = transfer(g, Bytes<T>::ray_bytes(arch_.top_tree()));
+    const std::uint64_t ray_bytes = Bytes<T>::ray_bytes(arch_.top_tree());
+    if (!wave.first) g = transfer(g, ray_bytes);
+    else if (mask) g = transfer(g, ray_bytes + mask_bytes);
+    else for (std::size_t i = 0; i < n; ++i) g = transfer(g, ray_bytes);
     const Cycles avail = g;
-    const RayKind kind = f.rays[id].kind;
-    ++out.rays[static_cast<int>(kind)];
-    ++issued;
-    issue_order.push_back(id);
-    answers_left[id] = static_cast<std::uint32_t>(units);
-    if (simple) {  // serial units, ideal bus, on-chip memories: the common case, kept tight
+    if (simple && !wave.first) {  // serial units, ideal bus, on-chip memories, broadcast: kept tight
       const std::uint64_t answer = answer_bytes(id);
       out.bus_transfers += units;
       out.bus_bytes += units * answer;
-      Cycles done_all = 0, last = 0;
+      Cycles done_all = 0;
       for (std::uint32_t u = 0; u < units; ++u) {
         const Cycles start = std::max(unit_free[u], avail);
         const UnitRayWork* w = f.find(id, u);
         const Cycles done = start + (w ? w->cycles : miss_cycles[u]);
         unit_free[u] = done;
-        fifo_peak_[u] = std::max<std::uint64_t>(fifo_peak_[u], queued[u].occupancy_after_push(avail, start));
+        ++pushes[u];
+        popped(u, avail, start);
         done_all = std::max(done_all, done);
-        last = std::max(last, start);
       }
-      popped_at[id] = last;
-      popped_by[id] = static_cast<std::uint32_t>(units);
       work.answered(done_all, id);
       return;
     }
-    for (std::uint32_t u = 0; u < units; ++u) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t u = wave.first ? wave.first[i] & ~kWaveEnd : static_cast<std::uint32_t>(i);
+      ++pushes[u];
       if (!pipelined) {
         if (shared && (!unit_pending[u].empty() || !waiting[u].empty())) waiting[u].push_back({id, avail});
         else start_serial(u, id, avail);
@@ -344,7 +368,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
       }
       memories_[u]->forget_before(static_cast<Cycle>(start));
       const auto k = p.take(static_cast<Cycle>(start), static_cast<Cycle>(avail), rays.build(f, u, w, id, regs[u]), reader);
-      popped(u, id, avail, start);
+      popped(u, avail, start);
       if (shared) {
         pending.push({static_cast<Cycles>(k.done), seq++, u, id, answer_bytes(id), 0, k.handle, k.done});
         unit_pending[u].insert(static_cast<Cycles>(k.done));
@@ -370,7 +394,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     const auto next = work.next(g, room, never, work.due(never) == never && pending.empty());
     if (next == GppWork<T, Cycles>::Next::done) break;
     if (next == GppWork<T, Cycles>::Next::retire) {
-      if (work.retire().second) g += arch_.gpp.cycles_per_hit;
+      if (work.retire().shade) g += arch_.gpp.cycles_per_hit;
     } else if (next == GppWork<T, Cycles>::Next::issue) {
       issue(work.take_ray());
     } else {
@@ -380,11 +404,12 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     }
   }
   out.makespan = g;
+  route_figures(f, units, out.route);
   *cmd.image = f.image;
   out.per_sphere = f.per_sphere;
   for (std::size_t u = 0; u < units; ++u) {
     UnitTimed& t = timed[u];
-    t.rays = t.fifo_pushes = t.fifo_pops = issued;
+    t.rays = t.fifo_pushes = t.fifo_pops = pushes[u];
     t.fifo_peak = fifo_peak_[u];
     t.memory = memories_[u]->counts();
     t.cache_stall = cached[u].stall;

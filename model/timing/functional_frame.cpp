@@ -31,12 +31,18 @@ struct Chunk {
   std::vector<HitRecord<T>> hits;
   std::vector<std::uint32_t> records_of;  // per unit: how many records, visits and hits
   std::vector<std::uint32_t> hits_of;
+  // Routed (ref/route.h): per ray how many units it went to, and those units in order (the
+  // last of each wave flagged).
+  std::vector<std::uint32_t> route_count, route_units, route_skips;
+  std::uint64_t skipped = 0;
 
   // Give back the growth slack while the chunk's thread goes on to its next chunk (it
   // reuses the memory): the frame's records are held at their size, not up to twice it.
   void shrink() {
     rays.shrink_to_fit();
     records.shrink_to_fit();
+    route_count.shrink_to_fit();
+    route_units.shrink_to_fit();
     hits.shrink_to_fit();
     if (!detail) return;
     detail->visits.shrink_to_fit();
@@ -55,8 +61,9 @@ struct Totals {
 template <typename T>
 class Recorder {
  public:
-  Recorder(Chunk<T>& c, Totals& t, const Arch& a, const std::vector<IuRegisters<T>>& regs, bool detail)
-      : c_(c), t_(t), arch_(a), regs_(regs), detail_(detail), node_bytes_(Bytes<T>::node), triangle_bytes_(Bytes<T>::triangle(a.kernel)) {
+  Recorder(Chunk<T>& c, Totals& t, const Arch& a, const std::vector<IuRegisters<T>>& regs, bool detail, bool routed)
+      : c_(c), t_(t), arch_(a), regs_(regs), detail_(detail), routed_(routed), node_bytes_(Bytes<T>::node),
+        triangle_bytes_(Bytes<T>::triangle(a.kernel)) {
     c_.records_of.assign(regs.size(), 0);
     c_.hits_of.assign(regs.size(), 0);
   }
@@ -66,8 +73,13 @@ class Recorder {
     c_.rays.push_back({ray, kind, static_cast<std::uint32_t>(pixel), slot});
     if (kind == RayKind::primary) c_.pixel_rays.push_back(0);
     ++c_.pixel_rays.back();
+    if (routed_) c_.route_count.push_back(0), c_.route_skips.push_back(0);
   }
-  void begin_unit(std::uint32_t) {
+  void begin_unit(std::uint32_t u) {
+    if (routed_) {
+      c_.route_units.push_back(u);
+      ++c_.route_count.back();
+    }
     sphere_tests_ = visits_ = node_tests_ = 0;
     spheres_before_ = nodes_before_ = 0;
     bytes_ = 0;
@@ -140,6 +152,13 @@ class Recorder {
       throw std::logic_error("functional trace: a flat unit's sphere tests are not what its answer implies");
     }
   }
+  void wave_end() {
+    if (routed_ && c_.route_count.back()) c_.route_units.back() |= kWaveEnd;
+  }
+  void skip(std::uint32_t) {
+    ++c_.skipped;
+    ++c_.route_skips.back();
+  }
   void end_ray() {}
 
  private:
@@ -147,7 +166,7 @@ class Recorder {
   Totals& t_;
   const Arch& arch_;
   const std::vector<IuRegisters<T>>& regs_;
-  const bool detail_;
+  const bool detail_, routed_;
   const std::uint32_t node_bytes_, triangle_bytes_;
   int kind_ = 0;
   std::uint32_t sphere_tests_ = 0, visits_ = 0, first_visit_ = 0, node_tests_ = 0;
@@ -161,7 +180,7 @@ class Recorder {
 template <typename T>
 void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const std::vector<IuRegisters<T>>& units,
                       const CameraRays& camera, const Shader<T>& shader, const Arch& arch, int width, int height,
-                      bool detail) {
+                      bool detail, const RouteTable<T>* route) {
   const std::size_t pixels = static_cast<std::size_t>(width) * height;
   const std::size_t spheres = g.sphere_count();
   const std::size_t n_units = units.size();
@@ -176,7 +195,9 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
     out.unit_top.push_back(r.top.empty() ? 0 : 1);
   }
 
-  const FrameTraceInputs<T> in{g, units, camera, shader, arch.memory.model == MemoryModel::latency};
+  const FrameTraceInputs<T> in{g, units, camera, shader, arch.memory.model == MemoryModel::latency, route};
+  const bool routed = route && route->routed();
+  out.routed = routed;
   std::vector<Chunk<T>> chunks(chunk_count(pixels, kPixelsPerChunk));
   out.detail.resize(detail ? chunks.size() : 0);
   for (std::size_t c = 0; c < out.detail.size(); ++c) {
@@ -202,7 +223,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
   parallel_chunks(pixels, kPixelsPerChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
     throw_if_stopped();
     Local& l = locals.local();
-    Recorder<T> rec(chunks[c], l.totals, arch, units, detail);
+    Recorder<T> rec(chunks[c], l.totals, arch, units, detail, routed);
     for (std::size_t p = begin; p < end; ++p)
       trace_pixel(in, static_cast<int>(p % width), static_cast<int>(p / width), out.image, rec, l.scratch);
     chunks[c].shrink();
@@ -223,7 +244,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
   // Assemble: rays in pixel order; each unit's records, visits and hits in ray order, with
   // the chunks' local indices turned into the frame's and the unit's.
   const std::size_t n_chunks = chunks.size();
-  std::vector<std::size_t> ray_base(n_chunks + 1, 0), pixel_base(n_chunks + 1, 0);
+  std::vector<std::size_t> ray_base(n_chunks + 1, 0), pixel_base(n_chunks + 1, 0), route_base(n_chunks + 1, 0);
   // [chunk][unit]: where the chunk's records and hits start in the unit's arrays
   std::vector<std::uint32_t> rec_base(n_chunks * n_units), hit_base(n_chunks * n_units);
   out.units.resize(n_units);
@@ -241,15 +262,30 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
   for (std::size_t c = 0; c < n_chunks; ++c) {
     ray_base[c + 1] = ray_base[c] + chunks[c].rays.size();
     pixel_base[c + 1] = pixel_base[c] + chunks[c].pixel_rays.size();
+    route_base[c + 1] = route_base[c] + chunks[c].route_units.size();
   }
+  out.skipped = 0;
+  for (const Chunk<T>& k : chunks) out.skipped += k.skipped;
   out.record_base = rec_base;
   const std::size_t rays = ray_base[n_chunks];
   out.rays.resize(rays);
   out.pixel_rays.resize(pixels + 1);
+  out.route_first.assign(routed ? rays + 1 : 0, 0);
+  out.route_units.resize(routed ? route_base[n_chunks] : 0);
+  out.route_skips.assign(routed ? rays : 0, 0);
   parallel_chunks(n_chunks, 1, [&](std::size_t c, std::size_t, std::size_t) {
     Chunk<T>& k = chunks[c];
     // The detail stays where the chunk wrote it (FunctionalFrame::visits_of): no copy.
     std::copy(k.rays.begin(), k.rays.end(), out.rays.begin() + static_cast<std::ptrdiff_t>(ray_base[c]));
+    if (routed) {
+      std::copy(k.route_units.begin(), k.route_units.end(), out.route_units.begin() + static_cast<std::ptrdiff_t>(route_base[c]));
+      auto first = static_cast<std::uint32_t>(route_base[c]);
+      for (std::size_t i = 0; i < k.route_count.size(); ++i) {
+        out.route_first[ray_base[c] + i] = first;
+        first += k.route_count[i];
+      }
+      std::copy(k.route_skips.begin(), k.route_skips.end(), out.route_skips.begin() + static_cast<std::ptrdiff_t>(ray_base[c]));
+    }
     auto r = static_cast<std::uint32_t>(ray_base[c]);
     for (std::size_t p = 0; p < k.pixel_rays.size(); ++p) {
       out.pixel_rays[pixel_base[c] + p] = r;
@@ -272,6 +308,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
     k = Chunk<T>{};  // its memory back before the next chunk's copy: peak = the frame, not twice it
   });
   out.pixel_rays[pixels] = static_cast<std::uint32_t>(rays);
+  if (routed) out.route_first[rays] = static_cast<std::uint32_t>(route_base[n_chunks]);
   // Each unit's index: one bit per ray, and the records before each 64-ray word.
   parallel_chunks(n_units, 1, [&](std::size_t u, std::size_t, std::size_t) {
     UnitTrace<T>& ut = out.units[u];
@@ -297,9 +334,9 @@ template struct FunctionalFrame<float>;
 template struct FunctionalFrame<double>;
 template void trace_functional(FunctionalFrame<float>&, const SceneGeometry<float>&,
                                const std::vector<IuRegisters<float>>&, const CameraRays&, const Shader<float>&,
-                               const Arch&, int, int, bool);
+                               const Arch&, int, int, bool, const RouteTable<float>*);
 template void trace_functional(FunctionalFrame<double>&, const SceneGeometry<double>&,
                                const std::vector<IuRegisters<double>>&, const CameraRays&, const Shader<double>&,
-                               const Arch&, int, int, bool);
+                               const Arch&, int, int, bool, const RouteTable<double>*);
 
 }  // namespace oprt::hw

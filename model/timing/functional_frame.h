@@ -17,6 +17,7 @@
 #include "timing/bytes.h"
 #include "timing/unit_cycles.h"
 #include "ref/frame_trace.h"
+#include "ref/route.h"
 
 #include <array>
 #include <cstdint>
@@ -32,6 +33,7 @@ struct UnitRayWork {
   std::uint32_t answer = kNone;  // primary: index into UnitTrace::hits; shadow: kOccluded; else kNone
 };
 constexpr std::uint32_t kOccluded = kNone - 1;
+constexpr std::uint32_t kWaveEnd = 0x8000'0000u;  // a routed ray's last unit of a wave (FunctionalFrame::route_units)
 
 // A sphere a unit entered on a ray (detail).
 struct VisitWork {
@@ -93,10 +95,22 @@ struct FunctionalFrame {
   std::vector<std::uint32_t> unit_entries;  // per unit: spheres in its registers this frame
   std::vector<char> unit_top;             // per unit: it walks a tree over its spheres (--top bvh)
   std::vector<std::array<std::uint64_t, kRayKinds>> unit_node_tests;  // per unit and ray kind
+  // Routing (ref/route.h; broadcast: empty): ray r went to the units route_units[route_first[r]
+  // .. route_first[r + 1]), in order, the last of each wave flagged with kWaveEnd; and how many
+  // (ray, unit) pairs `ordered` spared, in all and per ray.
+  bool routed = false;
+  std::vector<std::uint32_t> route_first, route_units, route_skips;
+  std::uint64_t skipped = 0;
   std::uint32_t sphere_cost = 0;          // cycles per sphere test
   std::uint32_t node_cost = 0;            // cycles per node test (--top bvh)
 
   std::uint32_t ray_count() const { return static_cast<std::uint32_t>(rays.size()); }
+  // The units ray r goes to (routed only), in order: unit = entry & ~kWaveEnd.
+  std::pair<const std::uint32_t*, const std::uint32_t*> route_of(std::uint32_t r) const {
+    return {route_units.data() + route_first[r], route_units.data() + route_first[r + 1]};
+  }
+  // How many units' bounds ray r entered: those it went to and those `ordered` skipped.
+  std::uint32_t route_entered(std::uint32_t r) const { return route_first[r + 1] - route_first[r] + route_skips[r]; }
   // Unit u's record for ray r, or null if the ray entered none of its spheres.
   const UnitRayWork* find(std::uint32_t r, std::uint32_t u) const { return units[u].find(r); }
   // Cycles unit u spends on a ray (busy and memory stall), with its record or without.
@@ -159,12 +173,13 @@ struct FunctionalFrame {
 };
 
 // Trace every pixel of the frame for the units' registers (units[u] is unit u's), keeping
-// each record's detail if `detail`. Reuses `out`'s storage from frame to frame. Throws
-// InputError if one unit's work on one ray would exceed 2^32 cycles.
+// each record's detail if `detail`, each ray sent to the units `route` chooses (null: every
+// unit). Reuses `out`'s storage from frame to frame. Throws InputError if one unit's work on
+// one ray would exceed 2^32 cycles.
 template <typename T>
 void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& geometry,
                       const std::vector<IuRegisters<T>>& units, const CameraRays& camera, const Shader<T>& shader,
-                      const Arch& arch, int width, int height, bool detail);
+                      const Arch& arch, int width, int height, bool detail, const RouteTable<T>* route = nullptr);
 
 // Calls phase(state, cycles) for each phase of unit u's work on a ray in time order, as the
 // unit performs it: sphere tests (and node tests of its tree), and for each entered sphere
@@ -204,9 +219,9 @@ extern template struct FunctionalFrame<float>;
 extern template struct FunctionalFrame<double>;
 extern template void trace_functional(FunctionalFrame<float>&, const SceneGeometry<float>&,
                                       const std::vector<IuRegisters<float>>&, const CameraRays&, const Shader<float>&,
-                                      const Arch&, int, int, bool);
+                                      const Arch&, int, int, bool, const RouteTable<float>*);
 extern template void trace_functional(FunctionalFrame<double>&, const SceneGeometry<double>&,
                                       const std::vector<IuRegisters<double>>&, const CameraRays&,
-                                      const Shader<double>&, const Arch&, int, int, bool);
+                                      const Shader<double>&, const Arch&, int, int, bool, const RouteTable<double>*);
 
 }  // namespace oprt::hw

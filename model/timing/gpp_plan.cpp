@@ -8,6 +8,34 @@
 
 namespace oprt::hw {
 
+FpUnits router_units(const Arch& a) {
+  FpUnits u = full_units(box_graph(), a.iu.add_latency, a.iu.multiply_latency);
+  if (a.route.units.adders) u.adders = a.route.units.adders;
+  if (a.route.units.multipliers) u.multipliers = a.route.units.multipliers;
+  return u;
+}
+
+template <typename T>
+GppPlan<T>::GppPlan(const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch)
+    : scene_(scene), geom_(geometry), arch_(arch) {
+  if (!arch.routed()) return;
+  route_.route = arch.route.policy == "ordered" ? Route::ordered : Route::multicast;
+  route_.wave = static_cast<std::uint32_t>(arch.route.wave);
+  router_ = modulo_schedule(box_graph(), router_units(arch));
+}
+
+template <typename T>
+std::uint64_t GppPlan<T>::route_cycles(std::size_t entered) const {
+  if (!routed()) return 0;
+  std::uint64_t c = assignment_.size() * static_cast<std::uint64_t>(router_.ii) + static_cast<std::uint64_t>(router_.length());
+  if (route_.route == Route::ordered && entered > 1) {
+    std::uint64_t log = 0;
+    while ((std::uint64_t{1} << log) < entered) ++log;
+    c += entered * log;
+  }
+  return c;
+}
+
 template <typename T>
 const std::vector<MemoryLoad>& GppPlan<T>::memory_loads() {
   const std::size_t units = assignment_.size();
@@ -55,6 +83,13 @@ const typename GppPlan<T>::Config& GppPlan<T>::configure(const FrameCommand& cmd
       config_.refit_nodes += load_top(registers_[u], trees_[u], assignment_[u], *setup_, geom_, &config_.built_nodes);
     config_.bytes[u] = assignment_[u].size() * Bytes<T>::sphere_config + registers_[u].top.size() * Bytes<T>::top_node;
   }
+  if (routed()) {
+    // The router's unit bounds, refitted with the trees: a unit's tree's root where it has
+    // one (already refitted), else one union per sphere.
+    route_.refit(*setup_, geom_, assignment_);
+    if (!arch_.top_tree())
+      for (const auto& spheres : assignment_) config_.refit_nodes += spheres.size();
+  }
   config_.refit_cycles = config_.refit_nodes * static_cast<std::uint64_t>(arch_.gpp.cycles_per_node);
   return config_;
 }
@@ -67,7 +102,8 @@ void GppPlan<T>::trace(FunctionalFrame<T>& out, const FrameCommand& cmd, bool tr
   // timeline's phases, for caches, which time each visit, and for pipelines, which
   // schedule each visit's work on their stages.
   const bool detail = traced || any_cached() || arch_.iu.model == IuModel::pipelined;
-  trace_functional(out, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height, detail);
+  trace_functional(out, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height, detail,
+                   routed() ? &route_ : nullptr);
 }
 
 template class GppPlan<float>;

@@ -22,6 +22,8 @@
 #include "timing/functional_frame.h"
 #include "timing/object_memory_model.h"
 #include "timing/visit_stream.h"
+#include "arch/cycle_schedule.h"
+#include "ref/route.h"
 #include "ref/frame_setup.h"
 #include "scene/scene.h"
 
@@ -33,11 +35,14 @@
 
 namespace oprt::hw {
 
+// The GPP's router (--route): a box-test unit's adders and multipliers (route.adders,
+// route.multipliers; 0: enough for II 1).
+FpUnits router_units(const Arch& a);
+
 template <typename T>
 class GppPlan {
  public:
-  GppPlan(const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch)
-      : scene_(scene), geom_(geometry), arch_(arch) {}
+  GppPlan(const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch);
 
   // Spheres per unit, in the units' order; takes effect at the next memory_loads().
   void assign(const std::vector<std::vector<std::uint32_t>>& unit_spheres) { assignment_ = unit_spheres; }
@@ -64,6 +69,15 @@ class GppPlan {
   // a timeline shows each phase. Throws Interrupted on SIGINT / SIGTERM.
   void trace(FunctionalFrame<T>& out, const FrameCommand& cmd, bool traced) const;
 
+  // Routing (ref/route.h): the GPP's router, a box-test unit beside it holding the units'
+  // bounds (refitted in configure()), tests a ray against every unit's bound (one test
+  // issued every II cycles, the last result L cycles after it) and, for `ordered`, sorts the
+  // n units whose bound the ray entered by entry distance (n ceil(log2 n) comparisons, one
+  // per cycle; the skipped ones among them), before the ray's first wave is written.
+  bool routed() const { return arch_.routed(); }
+  std::uint64_t route_cycles(std::size_t entered) const;
+  const Schedule& router_schedule() const { return router_; }
+
  private:
   const Scene& scene_;
   const SceneGeometry<T>& geom_;
@@ -76,18 +90,25 @@ class GppPlan {
   std::vector<TopTree> trees_;
   std::unique_ptr<FrameSetup<T>> setup_;
   Config config_;
+  RouteTable<T> route_;
+  Schedule router_;
 };
 
 // The order of the GPP's work, at either level, in its own time type (sc_time or cycles).
+// A routed ray (ref/route.h) goes out in waves: when a wave's answers are all in and the ray
+// has another wave, that wave is written next (before pending shadow rays).
 template <typename T, typename Time>
 class GppWork {
  public:
-  explicit GppWork(const FunctionalFrame<T>& f) : f_(f), pixels_(f.pixel_rays.size() - 1) {}
+  explicit GppWork(const FunctionalFrame<T>& f) : f_(f), pixels_(f.pixel_rays.size() - 1) {
+    if (f.routed) wave_at_.assign(f.route_first.begin(), f.route_first.end() - 1);
+  }
 
   enum class Next { retire, issue, wait, done };
   // At `now`, with the ray whose answers are all in earliest due at due(), and the next ray
-  // writable at `room` (when every ray FIFO has room; `never` if there is no ray to write):
-  // what the GPP does. A completion and a write possible at the same time: the completion.
+  // writable at `room` (when every ray FIFO it goes to has room; `never` if there is no ray
+  // to write): what the GPP does. A completion and a write possible at the same time: the
+  // completion.
   Next next(Time now, Time room, Time never, bool all_retired) const {
     const Time due = completed_.empty() ? never : completed_.top().at;
     const Time next = std::min(due, room);
@@ -95,29 +116,65 @@ class GppWork {
     if (next > now) return Next::wait;
     return due <= room ? Next::retire : Next::issue;
   }
-  bool has_ray() const { return !shadow_.empty() || next_pixel_ < pixels_; }
+  bool has_ray() const { return !waves_.empty() || !shadow_.empty() || next_pixel_ < pixels_; }
   // The earliest completion, or `never`.
   Time due(Time never) const { return completed_.empty() ? never : completed_.top().at; }
-  // Ray `id` has all its answers, the last at `at`.
+  // Ray `id`'s wave has all its answers, the last at `at`.
   void answered(Time at, std::uint32_t id) { completed_.push({at, id}); }
-  // The completion to handle next; a primary ray that hit queues its shadow rays. Returns
-  // (ray, whether it is a primary that hit: the GPP shades it).
-  std::pair<std::uint32_t, bool> retire() {
+  struct Retired {
+    std::uint32_t ray;
+    bool shade = false;      // a primary ray that hit: the GPP shades it
+    bool next_wave = false;  // not done: its next wave is queued
+  };
+  // The completion to handle next. A routed ray with another wave queues it; else the ray
+  // is done, and a primary ray that hit queues its shadow rays.
+  Retired retire() {
     const std::uint32_t id = completed_.top().ray;
     completed_.pop();
+    if (f_.routed && wave_at_[id] != f_.route_first[id + 1]) {
+      waves_.push_back(id);
+      return {id, false, true};
+    }
     const RayRecord<T>& r = f_.rays[id];
-    if (r.kind != RayKind::primary || f_.image.object[r.pixel] == kNone) return {id, false};
+    if (r.kind != RayKind::primary || f_.image.object[r.pixel] == kNone) return {id};
     for (std::uint32_t s = id + 1; s < f_.pixel_rays[r.pixel + 1]; ++s) shadow_.push_back(s);
     return {id, true};
   }
-  // The next ray to write: a pending shadow ray first.
+  // The next ray to write: a routed ray's next wave first, then a pending shadow ray.
+  std::uint32_t peek_ray() const {
+    if (!waves_.empty()) return waves_.front();
+    if (!shadow_.empty()) return shadow_.front();
+    return f_.pixel_rays[next_pixel_];
+  }
   std::uint32_t take_ray() {
-    if (!shadow_.empty()) {
-      const std::uint32_t id = shadow_.front();
-      shadow_.pop_front();
-      return id;
+    const std::uint32_t id = peek_ray();
+    if (!waves_.empty()) waves_.pop_front();
+    else if (!shadow_.empty()) shadow_.pop_front();
+    else ++next_pixel_;
+    return id;
+  }
+  // The units ray `id`'s next wave goes to (routed: a range of FunctionalFrame::route_units,
+  // flagged entries; broadcast: empty, meaning every unit), and whether it is the ray's first.
+  struct Wave {
+    const std::uint32_t *first = nullptr, *last = nullptr;
+    bool initial = true;
+    std::size_t size(std::size_t units) const { return first ? static_cast<std::size_t>(last - first) : units; }
+  };
+  // How many units' bounds ray `id` entered (routed only).
+  std::size_t entered(std::uint32_t id) const { return f_.routed ? f_.route_entered(id) : 0; }
+  Wave wave(std::uint32_t id) const {
+    if (!f_.routed) return {};
+    const std::uint32_t* p = f_.route_units.data() + wave_at_[id];
+    const std::uint32_t* end = f_.route_units.data() + f_.route_first[id + 1];
+    const std::uint32_t* last = p;
+    while (last != end && !(*last++ & kWaveEnd)) {
     }
-    return f_.pixel_rays[next_pixel_++];
+    return {p, last, wave_at_[id] == f_.route_first[id]};
+  }
+  // Ray `id`'s next wave is being written.
+  void wrote(std::uint32_t id) {
+    if (!f_.routed) return;
+    wave_at_[id] = static_cast<std::uint32_t>(wave(id).last - f_.route_units.data());
   }
 
  private:
@@ -130,7 +187,8 @@ class GppWork {
   const std::size_t pixels_;
   std::size_t next_pixel_ = 0;
   std::priority_queue<Completion, std::vector<Completion>, std::greater<Completion>> completed_;
-  std::deque<std::uint32_t> shadow_;
+  std::deque<std::uint32_t> shadow_, waves_;
+  std::vector<std::uint32_t> wave_at_;  // routed: where ray r's next wave starts in route_units
 };
 
 extern template class GppPlan<float>;

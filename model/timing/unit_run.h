@@ -29,12 +29,32 @@ struct UnitRun {
   std::optional<PipelineStats> pipeline;    // a pipelined unit's stages
 };
 
+// Routing (ref/route.h): the router's cycles, the (ray, unit) pairs `ordered` spared, and
+// the rays by how many units they went to (fanout[k]: rays sent to k units).
+struct RouteRun {
+  std::uint64_t cycles = 0, skipped = 0;
+  std::vector<std::uint64_t> fanout;
+};
+
+// The fan-out histogram and the spared pairs of a frame, from its trace.
+template <typename T>
+void route_figures(const FunctionalFrame<T>& f, std::size_t units, RouteRun& r) {
+  r.fanout.assign(units + 1, 0);
+  if (!f.routed) {
+    r.fanout[units] = f.ray_count();
+    return;
+  }
+  for (std::uint32_t id = 0; id < f.ray_count(); ++id) ++r.fanout[f.route_first[id + 1] - f.route_first[id]];
+  r.skipped = f.skipped;
+}
+
 struct FrameRun {
   std::uint64_t makespan = 0;
   std::uint64_t rays[kRayKinds] = {};
   std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0, memory_load_bytes = 0;
   std::uint64_t memory_load_cycles = 0;  // bus time of the geometry moved in (0 on an ideal bus)
   std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;  // --top bvh: the GPP's refit (gpp_plan.h)
+  RouteRun route;
   std::vector<UnitRun> units;
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere], whichever unit did it
 };

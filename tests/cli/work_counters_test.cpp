@@ -31,6 +31,8 @@ struct Counter {
     if (v.sphere != kNone) w += v.work;
   }
   void end_unit(std::uint32_t, const UnitAnswer<float>&) {}
+  void wave_end() {}
+  void skip(std::uint32_t) {}
   void end_ray() {}
 };
 

@@ -1,0 +1,71 @@
+// Which units a ray goes to (`--route`, architecture file "route"). The paper broadcasts every
+// ray to every unit; a unit that holds nothing near the ray then still tests it against all
+// its spheres (or its tree's root), which caps what any structure inside a unit can save.
+//  - broadcast: every unit, one wave (the paper's).
+//  - multicast: the units whose bound the ray enters before its end (tmax: infinity for a
+//    primary ray, the light for a shadow ray), one wave.
+//  - ordered: those units in order of the distance at which the ray enters their bounds, in
+//    waves of `wave` units: a unit is skipped when the ray enters its bound beyond the
+//    closest hit the waves before found (hit_box with that limit says no), and a shadow ray
+//    stops after the wave that found an occluder.
+// A unit's bound is the box of its spheres' world bounds for the frame (ref/top_tree.h:
+// world_bounds, which holds every point a kernel may report in a sphere), refitted by the
+// GPP every frame from the new matrices as the units' trees are, and rounded outward to T.
+// The image is the broadcast's, bit for bit: a unit whose bound the ray does not enter can
+// report no hit on it; a unit entered strictly beyond the closest hit so far can report only
+// a farther one (the argument of the tree over a unit's spheres, ref/top_traverse.h); and the
+// nearest of the answers is chosen by the total order (t, object, prim), whichever units and
+// in whichever order they came.
+#pragma once
+
+#include "geom/bvh.h"
+#include "ref/top_tree.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace oprt {
+
+enum class Route { broadcast, multicast, ordered };
+
+template <typename T>
+struct RouteTable {
+  Route route = Route::broadcast;
+  std::uint32_t wave = 1;       // ordered: units per wave
+  std::vector<Box<T>> bound;    // per unit: world space, rounded outward; empty: nothing visible
+
+  bool routed() const { return route != Route::broadcast; }
+  // The frame's bounds: per unit the union of its visible spheres' world bounds.
+  void refit(const FrameSetup<T>& f, const SceneGeometry<T>& g, const std::vector<std::vector<std::uint32_t>>& units) {
+    bound.assign(units.size(), Box<T>{});
+    for (std::size_t u = 0; u < units.size(); ++u) {
+      Box<double> b;
+      for (std::uint32_t s : units[u])
+        if (f.visible[s]) b.extend(world_bounds(f, g, s));
+      if (!b.empty()) bound[u] = round_out<T>(b, 0);
+    }
+  }
+  // The units whose bound the ray enters, with their entry distances: in unit order
+  // (multicast), or nearest first, ties by unit (ordered). Returns their count.
+  struct Entered {
+    T entry;
+    std::uint32_t unit;
+  };
+  std::size_t entered(const Ray<T>& ray, std::vector<Entered>& out) const {
+    out.clear();
+    const BoxRay<T> br = box_ray(ray);
+    for (std::uint32_t u = 0; u < bound.size(); ++u) {
+      const T t = box_entry(br, bound[u], ray.tmax);
+      if (t != kInf<T>) out.push_back({t, u});
+    }
+    if (route == Route::ordered)
+      std::sort(out.begin(), out.end(),
+                [](const Entered& a, const Entered& b) { return a.entry != b.entry ? a.entry < b.entry : a.unit < b.unit; });
+    return out.size();
+  }
+  // Whether the ray still has to visit unit u, with the closest hit so far at `limit`.
+  bool worth(const Ray<T>& ray, std::uint32_t u, T limit) const { return hit_box(box_ray(ray), bound[u], limit); }
+};
+
+}  // namespace oprt

@@ -1,0 +1,133 @@
+// Rays only where they are needed (issue 21): every route, with every assignment, renders
+// the reference's image bit for bit at every level and, under the ideal architecture, times
+// every unit exactly as `at` does; the route's figures in stats.json add up (each ray counted
+// once in the fan-out histogram, the histogram's pairs are the rays the units received).
+#include "cli_util.h"
+#include "ref/image.h"
+
+#include <catch2/catch.hpp>
+
+using namespace oprt::test;
+
+namespace {
+const std::string kCommon = " --resolution 20x15 --subdivide 2 --ius 6 --no-progress";
+
+std::uint64_t rays_of(const nlohmann::json& f) {
+  return f["rays"]["primary"].get<std::uint64_t>() + f["rays"]["shadow"].get<std::uint64_t>();
+}
+
+// The route's own figures against the frame's rays and the units' counters.
+void check_route_figures(const nlohmann::json& f, int units) {
+  const auto& r = f["route"];
+  const auto hist = r["fanout_histogram"].get<std::vector<std::uint64_t>>();
+  REQUIRE(hist.size() == static_cast<std::size_t>(units) + 1);
+  std::uint64_t rays = 0, pairs = 0, last = 0;
+  for (std::size_t k = 0; k < hist.size(); ++k) {
+    rays += hist[k];
+    pairs += k * hist[k];
+    if (hist[k]) last = k;
+  }
+  CHECK(rays == rays_of(f));
+  CHECK(r["fanout_max"].get<std::uint64_t>() == last);
+  CHECK(r["fanout_mean"].get<double>() == Approx(static_cast<double>(pairs) / static_cast<double>(rays)));
+  std::uint64_t received = 0;
+  for (const auto& u : f["ius"]) received += u["rays"].get<std::uint64_t>();
+  CHECK(received == pairs);
+}
+
+void every_level(const std::string& iu, const std::string& route) {
+  const fs::path d = temp_dir("route_" + iu + "_" + route);
+  const std::string unit = iu == "pipelined" ? " --iu pipelined --accel bvh --top bvh" : " --accel bvh --top flat";
+  const fs::path ref = d / "ref";
+  REQUIRE(run_oprt("reference " + scene("paper_room.json") + " --frames 0:1 --resolution 20x15 --subdivide 2 --accel bvh --out " +
+                   ref.string()).status == 0);
+  int renders = 0;
+  for (const char* balance : {"sa_n", "spatial", "feedback --locality 0.5"}) {
+    nlohmann::json at;
+    for (const char* level : {"at", "lt", "analytic"}) {
+      INFO(iu << " " << route << " " << balance << " " << level);
+      const fs::path out = d / (std::string(balance).substr(0, 4) + level);
+      REQUIRE(run_oprt("render " + scene("paper_room.json") + " --frames 0:1" + kCommon + unit + " --route " + route +
+                       " --balance " + balance + " --level " + level + " --out " + out.string()).status == 0);
+      ++renders;
+      for (const char* frame : {"frame_0000.exr", "frame_0001.exr"})
+        CHECK(oprt::read_exr((out / frame).string()) == oprt::read_exr((ref / frame).string()));
+      const nlohmann::json frames = stats(out)["frames"];
+      for (const auto& f : frames) check_route_figures(f, 6);
+      if (std::string(level) == "at") {
+        at = frames;
+        continue;
+      }
+      for (std::size_t i = 0; i < frames.size(); ++i) {
+        CHECK(frames[i]["route"] == at[i]["route"]);
+        CHECK(frames[i]["bus"] == at[i]["bus"]);
+        // A decoupled pipelined unit that starves (a routed unit often has no ray) may take
+        // its next ray up to a quantum off at `lt`, which moves its occupancy (its busy
+        // cycles): the makespan stays within 1 % of `at` (docs/timing-levels.md).
+        if (iu == "pipelined" && std::string(level) == "lt") {
+          CHECK(frames[i]["makespan_cycles"].get<double>() ==
+                Approx(at[i]["makespan_cycles"].get<double>()).epsilon(0.01));
+          continue;
+        }
+        CHECK(frames[i]["busy_cycles"] == at[i]["busy_cycles"]);
+        CHECK(frames[i]["makespan_cycles"] == at[i]["makespan_cycles"]);
+        for (std::size_t u = 0; u < 6; ++u) CHECK(frames[i]["ius"][u]["cycles"] == at[i]["ius"][u]["cycles"]);
+      }
+    }
+  }
+  CHECK(renders == 9);
+}
+}  // namespace
+
+TEST_CASE("route: multicast, serial units, every balance and level", "[cli][route]") { every_level("serial", "multicast"); }
+TEST_CASE("route: ordered, serial units, every balance and level", "[cli][route]") { every_level("serial", "ordered"); }
+TEST_CASE("route: multicast, pipelined units, every balance and level", "[cli][route]") { every_level("pipelined", "multicast"); }
+TEST_CASE("route: ordered, pipelined units, every balance and level", "[cli][route]") { every_level("pipelined", "ordered"); }
+
+TEST_CASE("route: what each route sends, skips and costs on the same partition", "[cli][route]") {
+  const fs::path d = temp_dir("route_compare");
+  const std::string common = "render " + scene("paper_room.json") + " --frames 1" + kCommon +
+                             " --accel bvh --top bvh --balance spatial --locality 1 --level analytic --out ";
+  nlohmann::json f[3];
+  const char* routes[] = {"broadcast", "multicast", "ordered"};
+  for (int i = 0; i < 3; ++i) {
+    REQUIRE(run_oprt(common + (d / routes[i]).string() + " --route " + routes[i]).status == 0);
+    f[i] = stats(d / routes[i])["frames"][0];
+    check_route_figures(f[i], 6);
+  }
+  const std::uint64_t rays = rays_of(f[0]);
+  // Broadcast: every ray to every unit, no routing work, the figures as before routing.
+  CHECK(f[0]["route"]["fanout_histogram"][6] == rays);
+  CHECK(f[0]["route"]["cycles"] == 0);
+  CHECK(f[0]["route"]["skipped"] == 0);
+  // Multicast: fewer units per ray and less work; the router tests every unit's bound for
+  // every ray, the same cycles per ray (its schedule's II per unit plus its latency).
+  CHECK(f[1]["route"]["fanout_mean"].get<double>() < 6);
+  CHECK(f[1]["busy_cycles"].get<std::uint64_t>() < f[0]["busy_cycles"].get<std::uint64_t>());
+  const auto route_cycles = f[1]["route"]["cycles"].get<std::uint64_t>();
+  CHECK(route_cycles % rays == 0);
+  CHECK(route_cycles / rays > 6);
+  CHECK(f[1]["route"]["skipped"] == 0);
+  // Ordered: the same bounds, a unit skipped where a nearer one answered, less work still,
+  // and the sorting on top of the multicast's tests.
+  CHECK(f[2]["route"]["skipped"].get<std::uint64_t>() > 0);
+  CHECK(f[2]["busy_cycles"].get<std::uint64_t>() < f[1]["busy_cycles"].get<std::uint64_t>());
+  CHECK(f[2]["route"]["fanout_mean"].get<double>() < f[1]["route"]["fanout_mean"].get<double>());
+  CHECK(f[2]["route"]["cycles"].get<std::uint64_t>() > route_cycles);
+  for (int i = 1; i < 3; ++i) CHECK(f[i]["image_hash"] == f[0]["image_hash"]);
+}
+
+TEST_CASE("route: one transfer per addressed unit moves more bytes than one with a mask", "[cli][route]") {
+  const fs::path d = temp_dir("route_transfer");
+  const fs::path arch = d / "per_unit.json";
+  std::ofstream(arch) << R"({"format": "oprt-arch/1", "route": {"policy": "multicast", "transfer": "per_unit"}})";
+  const std::string common = "render " + scene("paper_room.json") + " --frames 1" + kCommon +
+                             " --balance spatial --locality 1 --level analytic --out ";
+  REQUIRE(run_oprt(common + (d / "mask").string() + " --route multicast").status == 0);
+  REQUIRE(run_oprt(common + (d / "per_unit").string() + " --arch " + arch.string()).status == 0);
+  const auto mask = stats(d / "mask")["frames"][0], per_unit = stats(d / "per_unit")["frames"][0];
+  CHECK(mask["route"] == per_unit["route"]);
+  CHECK(per_unit["bus"]["transfers"].get<std::uint64_t>() > mask["bus"]["transfers"].get<std::uint64_t>());
+  CHECK(per_unit["bus"]["bytes"].get<std::uint64_t>() > mask["bus"]["bytes"].get<std::uint64_t>());
+  CHECK(per_unit["image_hash"] == mask["image_hash"]);
+}
