@@ -1,6 +1,7 @@
 // oprt info: what the engine will hold for a scene.
 #include "balance/spheres.h"
 #include "commands.h"
+#include "memory_estimate.h"
 #include "geom/bounding_sphere.h"
 #include "arch/cycle_schedule.h"
 #include "options.h"
@@ -29,6 +30,9 @@ int run_info(const CommonOptions& o) {
   }
   if (o.scene.empty()) throw InputError("oprt info", "SCENE", "a scene file is required (or --schedules)");
   const ObjectSplit split = object_split_named(o.split, o.scene);
+  RunShape shape;
+  shape.timed = false;
+  limit_scene_memory(memory_limit(std::nullopt), shape, memory_estimate(shape, 0, 1));
   const Scene scene = load_scene(o.scene, load_options_for(o.load, o.max_object_triangles, split));
   const auto spheres = make_spheres(scene, o.subdivide, SplitRule::balanced_san, split);
   std::printf("scene       %s\n", o.scene.c_str());

@@ -1,10 +1,12 @@
 #include "arch/arch.h"
 
 #include "scene/json_in.h"
+#include "scene/numbers.h"
 
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 
 namespace oprt {
 
@@ -21,20 +23,7 @@ const char* to_string(DramPath p) { return p == DramPath::channel ? "channel" : 
 const char* to_string(IuModel m) { return m == IuModel::serial ? "serial" : "pipelined"; }
 
 double parse_time_ns(const std::string& text, const std::string& what) {
-  const char* s = text.c_str();
-  char* end = nullptr;
-  const double v = std::strtod(s, &end);
-  if (end == s || !std::isfinite(v) || v <= 0) throw InputError(what, text, "expected a positive time such as \"10 ns\" or \"1us\"");
-  std::string unit(end);
-  unit.erase(0, unit.find_first_not_of(' '));
-  double scale;
-  if (unit == "ps") scale = 1e-3;
-  else if (unit == "ns") scale = 1;
-  else if (unit == "us") scale = 1e3;
-  else if (unit == "ms") scale = 1e6;
-  else if (unit == "s") scale = 1e9;
-  else throw InputError(what, text, "unknown time unit \"" + unit + "\" (expected ps, ns, us, ms or s)");
-  return v * scale;
+  return static_cast<double>(parse_time_ps(text, false, {what, text})) / 1000;
 }
 
 namespace {
@@ -155,7 +144,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
       a.memory.model = choose<MemoryModel>(*v, {{"ideal", MemoryModel::ideal}, {"latency", MemoryModel::latency}});
     a.memory.latency_cycles = static_cast<int>(m->integer_or("latency_cycles", a.memory.latency_cycles, 0, 1 << 20));
     a.memory.bytes_per_cycle = static_cast<int>(m->integer_or("bytes_per_cycle", a.memory.bytes_per_cycle, 1, 1 << 20));
-    a.memory.sram_bytes = static_cast<std::uint64_t>(m->integer_or("sram_bytes", 0, 0, 1LL << 40));
+    a.memory.sram_bytes = m->bytes_or("sram_bytes", 0, kMaxSramBytes);
     if (auto c = m->find("cache")) {
       c->only_keys({"line_bytes", "ways", "replacement", "misses_outstanding"});
       if (auto v = c->find("line_bytes")) {
@@ -190,7 +179,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   }
   if (auto v = root.find("level"))
     a.level = choose<Level>(*v, {{"at", Level::at}, {"lt", Level::lt}, {"analytic", Level::analytic}});
-  if (auto v = root.find("quantum")) a.quantum_ns = parse_time_ns(v->string(), file + ": /quantum");
+  if (auto v = root.find("quantum")) a.quantum_ns = parse_time_ps(v->string(), false, {file, v->place()}) / 1000.0;
   if (auto v = root.find("balance")) a.balance = one_of(*v, {"paper", "round_robin", "sa_n", "feedback", "view"});
   a.subdivide = static_cast<int>(root.integer_or("subdivide", a.subdivide, 1, 4096));
   if (auto v = root.find("split_rule")) a.split_rule = one_of(*v, {"balanced", "median"});
@@ -204,19 +193,27 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   return a;
 }
 
-void check_arch(const Arch& a) {
+void check_arch(const Arch& a, const std::function<std::string(const std::string& key)>& origin) {
+  // Names a setting by where it came from (a flag or the file), for the message.
+  const auto named = [&](const std::string& key, const std::string& value) {
+    return origin ? origin(key) : a.source + ": " + key + " " + value;
+  };
+  const auto refuse = [&](const std::string& k1, const std::string& v1, const std::string& k2, const std::string& v2,
+                          const std::string& problem) {
+    throw InputError(named(k1, v1) + " with " + named(k2, v2), "", problem);
+  };
   if (a.iu.model == IuModel::pipelined && a.accel == "bvh")
-    throw InputError(a.source, "iu.model pipelined with accel bvh",
-                     "the pipelined IU models brute force inside spheres only (a BVH walk needs a box unit, which is "
-                     "not modelled): use --iu serial with --accel bvh");
+    refuse("iu.model", "pipelined", "accel", "bvh",
+           "the pipelined IU models brute force inside spheres only (a BVH walk needs a box unit, which is "
+           "not modelled): use --iu serial with --accel bvh");
   if (a.iu.model == IuModel::pipelined && a.top_tree())
-    throw InputError(a.source, "iu.model pipelined with top bvh",
-                     "the pipelined IU's sphere unit tests a flat list (a tree over the spheres needs a node unit, "
-                     "which is not modelled): use --iu serial with --top bvh");
+    refuse("iu.model", "pipelined", "top", "bvh",
+           "the pipelined IU's sphere unit tests a flat list (a tree over the spheres needs a node unit, "
+           "which is not modelled): use --iu serial with --top bvh");
   if (a.iu.model == IuModel::pipelined && a.memory.sram_bytes != 0)
-    throw InputError(a.source, "iu.model pipelined with memory.sram_bytes",
-                     "the pipelined IU's triangle unit reads an object memory that holds its spheres (a cache's "
-                     "misses are not modelled in the pipeline): use --iu serial with --sram");
+    refuse("iu.model", "pipelined", "memory.sram_bytes", std::to_string(a.memory.sram_bytes),
+           "the pipelined IU's triangle unit reads an object memory that holds its spheres (a cache's "
+           "misses are not modelled in the pipeline): use --iu serial with --sram");
 }
 
 Arch load_arch(const std::string& path) { return arch_from_json(JsonIn::parse_file(path), path); }

@@ -180,10 +180,10 @@ TEST_CASE("cli: bad IU and technology options end with a clear message and exit 
   CHECK(r.output.find("brute force") != std::string::npos);
   r = run_oprt("render " + scene("paper_room.json") + " --iu pipelined --top bvh --out " + d.string());
   CHECK(r.status == 2);
-  CHECK(r.output.find("iu.model pipelined with top bvh") != std::string::npos);
+  CHECK(r.output.find("--iu pipelined with --top bvh") != std::string::npos);
   r = run_oprt("render " + scene("paper_room.json") + " --iu pipelined --sram 16K --out " + d.string());
   CHECK(r.status == 2);
-  CHECK(r.output.find("iu.model pipelined with memory.sram_bytes") != std::string::npos);
+  CHECK(r.output.find("--iu pipelined with --sram 16K") != std::string::npos);
   r = run_oprt("render " + scene("paper_room.json") + " --arch " +
                write_arch(d, "q", R"({"format": "oprt-arch/1", "iu": {"model": "pipelined", "rays_in_flight": 0}})"));
   CHECK(r.status == 2);
