@@ -144,6 +144,9 @@ int main(int argc, char** argv) {
                 [&ro](std::uint64_t n) { ro.trace_buffer = static_cast<std::size_t>(n); });
   render->add_option("--max-memory", ro.max_memory, max_memory_help);
   render->add_flag("!--no-progress", ro.progress, "no progress bar");
+  render->add_flag("--check", ro.check,
+                   "check everything a render checks (files, numbers, outputs, memory), print the memory estimate, "
+                   "and render nothing (exit 0, or 2 with the message)");
   add_threads(render);
   add_load_options(render, ro.load, ro.split, ro.max_object_triangles);
 

@@ -132,7 +132,7 @@ void add_geometry(MemoryEstimate& e, const RunShape& r, std::uint64_t vertices, 
 
 void refuse_if_over(const MemoryEstimate& e, const MemoryLimit& limit) {
   std::ostringstream s;
-  s << "about " << byte_count_text(e.total()) << ":";
+  s << "about " << byte_count_text(e.total()) << " (" << e.total() << " bytes):";
   const MemoryEstimate::Part* largest = nullptr;
   for (const MemoryEstimate::Part& p : e.parts) {
     s << (&p == &e.parts.front() ? " " : "; ") << p.what << " " << byte_count_text(p.bytes);

@@ -1,6 +1,7 @@
 #include "render.h"
 
 #include "balance/policy.h"
+#include "cost/tech.h"
 #include "timing/pipeline_timing.h"
 #include "ref/parallel.h"
 #include "ref/scene_geometry.h"
@@ -10,11 +11,13 @@
 #include "outputs.h"
 #include "scene/numbers.h"
 #include "testbench.h"
+#include "hw/local_clock.h"
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <sstream>
 #include <unistd.h>
 
 #include <systemc>
@@ -90,6 +93,34 @@ std::vector<std::vector<NodeArea>> node_areas(const SceneGeometry<T>& g) {
   return out;
 }
 
+// An exception out of a SystemC process arrives as SystemC's report "uncaught exception"
+// (E549) wrapping its text: the original error again, an InputError when it was one, and a
+// simulated time that would not fit reworded with the settings that make it so long.
+std::exception_ptr from_process(std::exception_ptr failure, const RenderJob& job) {
+  try {
+    try {
+      std::rethrow_exception(failure);
+    } catch (const sc_core::sc_report& r) {
+      if (std::string(r.get_msg_type()) != sc_core::SC_ID_SIMULATION_UNCAUGHT_EXCEPTION_) throw;
+      if (auto e = InputError::thrown_with_text(r.get_msg())) throw *e;
+      throw std::runtime_error(r.get_msg());
+    }
+  } catch (const InputError& e) {
+    if (e.file() != hw::kSimulatedTime) return std::current_exception();
+    const Arch& a = job.arch;
+    std::ostringstream clock;
+    clock << a.clock_mhz << " MHz";
+    return std::make_exception_ptr(InputError(
+        a.source, "/clock_mhz and /costs",
+        "in frame " + std::to_string(job.frames.first + job.completed) + " (" + e.place() + "), " + e.problem() +
+            ": at " + clock.str() + " a cycle is " + format_time_ps(static_cast<std::uint64_t>(a.cycle_ns() * 1000)) +
+            "; raise clock_mhz, lower the costs, render fewer frames in one run, or use --level analytic (cycles "
+            "without a time limit)"));
+  } catch (...) {
+    return std::current_exception();
+  }
+}
+
 // What run_render checked before loading, for the checks that need the scene.
 struct Prepared {
   OutputPlan outputs;
@@ -114,6 +145,11 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared&
                      : NumberSource{"--resolution", o.resolution});
   add_geometry(need, p.shape, vertices, scene.triangle_count(), o.scene);
   refuse_if_over(need, p.limit);
+  if (o.check) {
+    std::printf("oprt: --check: %s: the run would need %s; it may use %s (%s)\n", o.scene.c_str(),
+                last_memory_estimate().c_str(), byte_count_text(p.limit.bytes).c_str(), p.limit.source.c_str());
+    return 0;
+  }
   p.outputs.create_folders();
   if (units < static_cast<std::size_t>(job.arch.ius))
     std::printf("oprt: %d intersection units requested, the scene has %zu spheres: instantiating %zu units\n",
@@ -187,11 +223,13 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared&
   sc_core::sc_report_handler::set_actions(sc_core::SC_ERROR, sc_core::SC_DISPLAY | sc_core::SC_THROW);
   sc_core::sc_report_handler::set_actions(sc_core::SC_FATAL, sc_core::SC_DISPLAY | sc_core::SC_THROW);
   sc_core::sc_report_handler::set_actions("/OSCI/SystemC", sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
+  // An exception out of a process: reported once, by main, as itself (from_process).
+  sc_core::sc_report_handler::set_actions(sc_core::SC_ID_SIMULATION_UNCAUGHT_EXCEPTION_, sc_core::SC_THROW);
   char arg0[] = "oprt";
   char* argv[] = {arg0, nullptr};
   const int rc = sc_core::sc_elab_and_sim(1, argv);
   g_simulation = nullptr;
-  if (failure) std::rethrow_exception(failure);
+  if (failure) std::rethrow_exception(from_process(failure, job));
   return rc;
 }
 
@@ -211,6 +249,8 @@ int run_render(const RenderOptions& o) {
   if (o.trace_buffer && o.vcd.empty())
     throw InputError("--trace-buffer", std::to_string(*o.trace_buffer),
                      "sizes the --vcd writer's buffer, and --vcd is not given");
+
+  if (!o.tech.empty()) (void)load_tech(o.tech);  // its errors before anything else is read
 
   // Every output, before anything is loaded or written.
   Prepared p;

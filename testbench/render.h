@@ -22,6 +22,7 @@ struct RenderOptions {
   std::optional<std::string> level, quantum, balance, accel, top, kernel, precision, sram, iu;
   std::string tech;  // technology table; empty: the built-in 65 nm one
   bool progress = true;  // on a terminal only
+  bool check = false;    // --check: every check a render makes, then stop (scripts/sweep)
   std::string split;     // "": the architecture file's, else the format's default
   std::optional<std::size_t> max_object_triangles;
   LoadOptions load;
