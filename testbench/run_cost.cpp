@@ -68,7 +68,10 @@ Cost RunCost::frame(const FrameStats& fs) {
     UnitSize& z = design_.units[u];
     z.object_memory_bytes = std::max(z.object_memory_bytes, s.memory_capacity_bytes);
     z.config_bytes = std::max(z.config_bytes, s.config_bytes);
-    const std::uint64_t fifo_entries = arch_.fifo_depth > 0 ? static_cast<std::uint64_t>(arch_.fifo_depth) : s.fifo_peak;
+    // Unbounded: as many entries as it ever held, and one at least if a ray passed through it
+    // (a ray popped as soon as it is pushed leaves a peak of 0, yet its write needed a slot).
+    const std::uint64_t fifo_entries = arch_.fifo_depth > 0 ? static_cast<std::uint64_t>(arch_.fifo_depth)
+                                                            : std::max<std::uint64_t>(s.fifo_peak, s.fifo_pushes > 0);
     z.fifo_bytes = std::max(z.fifo_bytes, fifo_entries * b.ray);
     UnitActivity& a = act.units[u];
     a.work = s.work[0];
