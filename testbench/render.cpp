@@ -146,7 +146,7 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared&
   add_geometry(need, p.shape, vertices, scene.triangle_count(), o.scene);
   refuse_if_over(need, p.limit);
   if (o.check) {
-    std::printf("oprt: --check: %s: the run would need %s; it may use %s (%s)\n", o.scene.c_str(),
+    std::printf("oprt: --check: %s: the run would need %s; it may use %s (%s); nothing rendered\n", o.scene.c_str(),
                 last_memory_estimate().c_str(), byte_count_text(p.limit.bytes).c_str(), p.limit.source.c_str());
     return 0;
   }
