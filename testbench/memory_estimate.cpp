@@ -65,12 +65,13 @@ std::uint64_t cgroup_room() {
 MemoryLimit memory_limit(const std::optional<std::string>& max_memory) {
   if (max_memory) {
     const std::uint64_t b = parse_bytes(*max_memory, ~std::uint64_t{0}, {"--max-memory", *max_memory});
-    return {b, "--max-memory " + *max_memory};
+    return {b, "--max-memory " + *max_memory, {"--max-memory", *max_memory}};
   }
   const std::uint64_t available = mem_available(), room = cgroup_room();
   if (room && (!available || room < available))
-    return {room, "what this process's cgroup still allows (memory.max); --max-memory sets another limit"};
-  return {available, "the memory available, MemAvailable in /proc/meminfo; --max-memory sets another limit"};
+    return {room, "what this process's cgroup still allows (memory.max); --max-memory sets another limit", {"memory", ""}};
+  return {available, "the memory available, MemAvailable in /proc/meminfo; --max-memory sets another limit",
+          {"memory", ""}};
 }
 
 std::uint64_t bytes_per_vertex(const RunShape& r) { return r.double_precision ? 84 : 72; }
@@ -140,7 +141,7 @@ void refuse_if_over(const MemoryEstimate& e, const MemoryLimit& limit) {
   }
   g_last = s.str();
   if (limit.bytes == 0 || e.total() <= limit.bytes) return;
-  throw InputError(largest ? largest->file : "oprt", largest ? largest->place : "",
+  throw InputError(largest ? largest->file : limit.set_by.file, largest ? largest->place : limit.set_by.place,
                    "the run would need " + g_last + ": more than the " + byte_count_text(limit.bytes) +
                        " it may use (" + limit.source + ")");
 }

@@ -20,6 +20,7 @@ namespace oprt {
 struct MemoryLimit {
   std::uint64_t bytes = 0;  // 0: no limit known
   std::string source;       // for messages: "--max-memory 2G", "the memory available (...)"
+  NumberSource set_by;      // where a refusal that names no larger setting points: --max-memory, or "memory"
 };
 
 // --max-memory (a byte count) if given, else what the machine has available.
