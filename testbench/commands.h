@@ -21,6 +21,7 @@ struct CommonOptions {
   std::string split;  // "count" | "extent"; "": the format's default (balance/spheres.h)
   std::optional<std::size_t> max_object_triangles;
   bool schedules = false;
+  std::optional<std::string> max_memory;  // --max-memory: a byte count
   LoadOptions load;
 };
 

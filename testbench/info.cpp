@@ -3,6 +3,7 @@
 #include "balance/policy.h"
 #include "balance/spheres.h"
 #include "commands.h"
+#include "memory_estimate.h"
 #include "geom/bounding_sphere.h"
 #include "arch/cycle_schedule.h"
 #include "options.h"
@@ -70,6 +71,9 @@ int run_info(const CommonOptions& o, const RenderOptions& arch_options) {
   ro.split = o.split;
   const Arch arch = resolve_arch(ro);
   const ObjectSplit split = object_split_named(arch.split, o.scene);
+  RunShape shape;
+  shape.timed = false;
+  limit_scene_memory(memory_limit(std::nullopt), shape, memory_estimate(shape, 0, 1));
   const Scene scene = load_scene(o.scene, load_options_for(o.load, o.max_object_triangles, split));
   const auto spheres = make_spheres(scene, arch.subdivide, split_rule_named(arch.split_rule), split);
   std::printf("scene       %s\n", o.scene.c_str());

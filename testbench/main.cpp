@@ -5,55 +5,90 @@
 //   oprt compare A.exr B.exr  how far frame A is from reference frame B (JSON)
 // Any bad input ends with one message "oprt: FILE: PLACE: PROBLEM" and exit status 2.
 #include "commands.h"
+#include "memory_estimate.h"
 #include "render.h"
 #include "ref/parallel.h"
 #include "ref/stop.h"
 #include "scene/error.h"
+#include "scene/numbers.h"
 
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <iostream>
+#include <memory>
+#include <vector>
+
+namespace {
+
+// Numbers on the command line are taken as text and read by the one parser of their kind
+// (scene/numbers.h), after CLI11 has parsed the line, so that every message states the
+// real limit. Each numeric option registers how to convert its text here.
+class Numbers {
+ public:
+  // A count in [lo, hi] into `set`.
+  void count(CLI::App* sub, const std::string& name, std::uint64_t lo, std::uint64_t hi, const std::string& help,
+             std::function<void(std::uint64_t)> set) {
+    auto text = std::make_shared<std::string>();
+    CLI::Option* o = sub->add_option(name, *text, help + " (" + std::to_string(lo) + " to " + std::to_string(hi) + ")");
+    convert_.push_back([o, text, name, lo, hi, set] {
+      if (o->count()) set(oprt::parse_count(*text, lo, hi, {name, *text}));
+    });
+  }
+  void run() const {
+    for (const auto& c : convert_) c();
+  }
+
+ private:
+  std::vector<std::function<void()>> convert_;
+};
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace oprt;
   CLI::App app{"oprt: a SystemC/TLM-2.0 model of an object-parallel ray-tracing engine for animated scenes"};
   app.require_subcommand(1);
   CommonOptions opt;
+  Numbers numbers;
   int threads = 0;  // 0: every core
-  auto add_threads = [&threads](CLI::App* sub) {
-    sub->add_option("--threads", threads, "threads for the functional work (default: every core)")
-        ->check(CLI::Range(1, 4096));
+  auto add_threads = [&](CLI::App* sub) {
+    numbers.count(sub, "--threads", 1, 4096, "threads for the functional work (default: every core)",
+                  [&threads](std::uint64_t n) { threads = static_cast<int>(n); });
   };
-
+  auto add_subdivide = [&](CLI::App* sub, auto& target) {
+    numbers.count(sub, "--subdivide", 1, 4096, "split each object's sphere into K",
+                  [&target](std::uint64_t n) { target = static_cast<int>(n); });
+  };
   auto add_scene = [&](CLI::App* sub) {
     sub->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)")->required();
   };
   // How a BART .aff scene becomes objects (docs/aff.md).
-  auto add_load_options = [](CLI::App* sub, LoadOptions& load, std::string& split,
-                             std::optional<std::size_t>& max_object_triangles) {
+  auto add_load_options = [&](CLI::App* sub, LoadOptions& load, std::string& split,
+                              std::optional<std::size_t>& max_object_triangles) {
     sub->add_option("--split", split,
                     "count | extent: how objects become spheres (default: extent for .aff and glTF, count for .json)")
         ->check(CLI::IsMember({"count", "extent"}));
-    sub->add_option("--max-object-triangles", max_object_triangles,
-                    "AFF: split static and rigid groups into objects of at most N triangles (0: never; default "
-                    "4096 under --split count, 0 under extent)")
-        ->check(CLI::Range(0, 1 << 30));
-    sub->add_option_function<unsigned>(
-           "--tessellation",
-           [&load](unsigned n) {
-             load.aff.sphere_segments = load.aff.cone_segments = n;
-             load.aff.sphere_rings = n / 2;
-           },
-           "AFF: spheres get N segments and N/2 rings, cones N segments (default 16)")
-        ->check(CLI::Range(4, 4096));
+    numbers.count(sub, "--max-object-triangles", 0, std::uint64_t{1} << 25,
+                  "AFF: split static and rigid groups into objects of at most N triangles (0: never; default 4096 "
+                  "under --split count, 0 under extent)",
+                  [&max_object_triangles](std::uint64_t n) { max_object_triangles = n; });
+    numbers.count(sub, "--tessellation", 4, 4096, "AFF: spheres get N segments and N/2 rings, cones N segments (default 16)",
+                  [&load](std::uint64_t n) {
+                    load.aff.sphere_segments = load.aff.cone_segments = static_cast<unsigned>(n);
+                    load.aff.sphere_rings = static_cast<unsigned>(n / 2);
+                  });
   };
+  const std::string max_memory_help =
+      "refuse a run whose estimated memory is more than BYTES (64M, 2G, 1.5T; default: the memory available)";
   auto* info = app.add_subcommand("info", "print the scene, its bounding spheres and their SA x N");
   info->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)");
   info->add_flag("--schedules", opt.schedules, "print the IU operations' cycle schedules");
   RenderOptions info_arch;  // with any of --arch, --ius, --balance, --locality: the assignment too
-  info->add_option("--subdivide", info_arch.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
+  add_subdivide(info, info_arch.subdivide);
   info->add_option("--arch", info_arch.arch_file, "architecture file (JSON, oprt-arch/1)");
-  info->add_option("--ius", info_arch.ius, "number of intersection units");
+  numbers.count(info, "--ius", 1, 65536, "number of intersection units",
+                [&info_arch](std::uint64_t n) { info_arch.ius = static_cast<int>(n); });
   info->add_option("--balance", info_arch.balance, "paper | round_robin | sa_n | spatial | feedback | view (frame 0)")
       ->check(CLI::IsMember({"paper", "round_robin", "sa_n", "spatial", "feedback", "view"}));
   info->add_option("--locality", info_arch.locality, "spatial, feedback: tight unit bounds (1) against balance (0)");
@@ -68,8 +103,9 @@ int main(int argc, char** argv) {
   ref->add_option("--frames", opt.frames, "N or A:B (inclusive); default: every frame");
   ref->add_option("--resolution", opt.resolution, "WxH; default: the scene's");
   ref->add_option("--out", opt.out, "output directory");
-  ref->add_option("--subdivide", opt.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
+  add_subdivide(ref, opt.subdivide);
   ref->add_option("--accel", opt.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
+  ref->add_option("--max-memory", opt.max_memory, max_memory_help);
   add_threads(ref);
   add_load_options(ref, opt.load, opt.split, opt.max_object_triangles);
 
@@ -83,7 +119,8 @@ int main(int argc, char** argv) {
   auto* render = app.add_subcommand("render", "render with the timed SystemC model");
   render->add_option("SCENE", ro.scene, "scene file")->required();
   render->add_option("--arch", ro.arch_file, "architecture file (JSON, oprt-arch/1)");
-  render->add_option("--ius", ro.ius, "number of intersection units");
+  numbers.count(render, "--ius", 1, 65536, "number of intersection units",
+                [&ro](std::uint64_t n) { ro.ius = static_cast<int>(n); });
   render->add_option("--frames", ro.frames, "N or A:B (inclusive); default: every frame");
   render->add_option("--level", ro.level, "at | lt | analytic")->check(CLI::IsMember({"at", "lt", "analytic"}));
   render->add_option("--quantum", ro.quantum, "temporal-decoupling quantum for lt, e.g. 1us");
@@ -91,7 +128,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"paper", "round_robin", "sa_n", "spatial", "feedback", "view"}));
   render->add_option("--locality", ro.locality,
                      "spatial, feedback: tight unit bounds (1) against balance (0); spatial's default 0.5");
-  render->add_option("--subdivide", ro.subdivide, "split each object's sphere into K")->check(CLI::Range(1, 4096));
+  add_subdivide(render, ro.subdivide);
   render->add_option("--accel", ro.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
   render->add_option("--top", ro.top, "flat | bvh: every sphere per ray, or a tree over each unit's spheres")
       ->check(CLI::IsMember({"flat", "bvh"}));
@@ -100,8 +137,8 @@ int main(int argc, char** argv) {
                      "enters, or those nearest first, in waves")
       ->check(CLI::IsMember({"broadcast", "multicast", "ordered"}));
   render->add_option("--sram", ro.sram,
-                     "object memory per unit in bytes (64K, 4M); a unit whose spheres need more uses it as a cache "
-                     "in front of DRAM (0: no limit)");
+                     "object memory per unit in bytes (64K, 4M, 1G; at most 1T); a unit whose spheres need more uses "
+                     "it as a cache in front of DRAM (0: no limit)");
   render->add_option("--kernel", ro.kernel, "moller | watertight")->check(CLI::IsMember({"moller", "watertight"}));
   render->add_option("--precision", ro.precision, "float | double")->check(CLI::IsMember({"float", "double"}));
   render->add_option("--iu", ro.iu, "serial | pipelined: the intersection unit's microarchitecture")
@@ -116,11 +153,15 @@ int main(int argc, char** argv) {
   render->add_option("--trace-window", ro.trace_window, "trace only simulated times T0:T1, e.g. 10us:2ms");
   render->add_option("--trace-units", ro.trace_units, "trace only these intersection units, e.g. 0-3,7");
   render->add_option("--trace-signals", ro.trace_signals, "trace only these signal groups: state,fifo,bus,gpp,memory,stage");
-  render->add_option("--trace-buffer", ro.trace_buffer,
-                     "value changes the --vcd writer may hold ahead of simulation time before units running ahead "
-                     "wait (default 131072, 16 bytes each)")
-      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 32));
+  numbers.count(render, "--trace-buffer", 1, std::uint64_t{1} << 32,
+                "value changes the --vcd writer may hold ahead of simulation time before units running ahead wait "
+                "(default 131072, 16 bytes each)",
+                [&ro](std::uint64_t n) { ro.trace_buffer = static_cast<std::size_t>(n); });
+  render->add_option("--max-memory", ro.max_memory, max_memory_help);
   render->add_flag("!--no-progress", ro.progress, "no progress bar");
+  render->add_flag("--check", ro.check,
+                   "check everything a render checks (files, numbers, outputs, memory), print the memory estimate, "
+                   "and render nothing (exit 0, or 2 with the message)");
   add_threads(render);
   add_load_options(render, ro.load, ro.split, ro.max_object_triangles);
 
@@ -133,8 +174,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   install_stop_handlers();
-  set_thread_count(threads);
   try {
+    numbers.run();
+    set_thread_count(threads);
     if (*info) return run_info(opt, info_arch);
     if (*ref) return run_reference(opt);
     if (*render) return run_render(ro);
@@ -146,7 +188,11 @@ int main(int argc, char** argv) {
     std::cerr << "oprt: " << e.what() << "\n";
     return 128 + e.signal();
   } catch (const std::bad_alloc&) {
-    std::cerr << "oprt: out of memory (a smaller --resolution, fewer --ius or a smaller scene needs less)\n";
+    const std::string& estimate = last_memory_estimate();
+    std::cerr << "oprt: out of memory"
+              << (estimate.empty() ? std::string(" before the run's memory was estimated")
+                                   : " although the run was estimated to need " + estimate)
+              << " (docs/reliability.md; --max-memory makes the estimate's check stricter)\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "oprt: error: " << e.what() << "\n";

@@ -1,5 +1,6 @@
-// Parsing of the command line's value syntaxes (--frames, --resolution, --quantum), shared by
-// the oprt subcommands. Bad values throw InputError naming the option.
+// The command line's value syntaxes built from numbers (--frames, --resolution), shared by the
+// oprt subcommands; each number is read by scene/numbers.h. Bad values throw InputError
+// naming the option.
 #pragma once
 
 #include "balance/spheres.h"
@@ -19,10 +20,10 @@ struct FrameRange {
 
 // "N" (one frame) or "A:B" (A to B inclusive); empty = every frame of the scene.
 FrameRange parse_frames(const std::string& text, const Scene& scene);
-// "WxH"; empty = the scene's own.
+// The same without a scene: the range as written (frame numbers up to 2^31 - 1).
+FrameRange parse_frame_range(const std::string& text, const std::string& option);
+// "WxH" (1 to 16384 each); empty = the scene's.
 void parse_resolution(const std::string& text, int& width, int& height);
-// "65536", "64K", "64KB", "4M" (K = 1024, M = 1024 K); 0 means no limit. Throws InputError naming `what`.
-std::uint64_t parse_bytes(const std::string& text, const std::string& what);
 
 // "0.5": --locality, a number in [0, 1]. Throws InputError naming the option.
 double parse_locality(const std::string& text);

@@ -1,7 +1,10 @@
 // oprt reference: the untimed functional renderer; frames, previews and work counts.
 #include "balance/spheres.h"
 #include "commands.h"
+#include "frame_log.h"
+#include "memory_estimate.h"
 #include "options.h"
+#include "outputs.h"
 #include "ref/parallel.h"
 #include "ref/reference.h"
 #include "ref/stop.h"
@@ -29,11 +32,20 @@ nlohmann::json work_json(const WorkCounts& w) {
 }
 
 template <typename T>
-int reference(const CommonOptions& o, const Scene& scene) {
+int reference(const CommonOptions& o, const Scene& scene, const OutputPlan& outputs, const MemoryLimit& limit,
+              const RunShape& shape) {
   int width = scene.width, height = scene.height;
   parse_resolution(o.resolution, width, height);
   const FrameRange frames = parse_frames(o.frames, scene);
   check_motions(scene, frames.first, frames.last);
+  std::uint64_t vertices = 0;
+  for (const Object& obj : scene.objects) vertices += obj.mesh.vertices.size();
+  MemoryEstimate need = memory_estimate(
+      shape, std::uint64_t(width) * std::uint64_t(height), 1,
+      o.resolution.empty() ? NumberSource{o.scene, "its image, " + std::to_string(width) + "x" + std::to_string(height)}
+                           : NumberSource{"--resolution", o.resolution});
+  add_geometry(need, shape, vertices, scene.triangle_count(), o.scene);
+  refuse_if_over(need, limit);
   const auto t_build = std::chrono::steady_clock::now();
   const Kernel kernel = kernel_named(o.kernel).value_or(Kernel::moller);
   const ObjectSplit split = object_split_named(o.split, o.scene);
@@ -41,7 +53,7 @@ int reference(const CommonOptions& o, const Scene& scene) {
                                          accel_named(o.accel));
   const bool deforming = has_deforming(scene);
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
-  std::filesystem::create_directories(o.out);
+  outputs.create_folders();
 
   nlohmann::json stats = {{"scene", o.scene},
                           {"precision", o.precision},
@@ -54,8 +66,9 @@ int reference(const CommonOptions& o, const Scene& scene) {
                           {"spheres", g.sphere_count()},
                           {"triangles", scene.triangle_count()},
                           {"build_s", build_s},
-                          {"threads", thread_count()},
-                          {"frames", nlohmann::json::array()}};
+                          {"threads", thread_count()}};
+  // reference.json: written when the run ends or is stopped, listing the frames completed.
+  FrameLog log((std::filesystem::path(o.out) / "reference.json").string());
   int completed = 0;
   for (int f = frames.first; f <= frames.last; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -64,6 +77,7 @@ int reference(const CommonOptions& o, const Scene& scene) {
     try {
       r = render_reference(scene, g, f, width, height);
     } catch (const Interrupted& e) {
+      log.write(stats);
       throw Interrupted(e.signal(), frames_completed(frames.first, frames.last, completed));
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -80,7 +94,7 @@ int reference(const CommonOptions& o, const Scene& scene) {
       per_object.push_back({{"object", obj}, {"name", scene.objects[obj].name},
                             {"primary", work_json(kinds[0])}, {"shadow", work_json(kinds[1])}});
     }
-    stats["frames"].push_back({{"frame", f},
+    log.add({{"frame", f},
                                {"wall_s", wall},
                                {"rays", {{"primary", r.work.rays[0]}, {"shadow", r.work.rays[1]}}},
                                {"rays_per_s", rays / wall},
@@ -93,24 +107,40 @@ int reference(const CommonOptions& o, const Scene& scene) {
                 g.has_bvh() ? ("  " + std::to_string(r.work.total().box_tests) + " box tests").c_str() : "",
                 exr.c_str());
     std::fflush(stdout);
-    // After every frame, so that a stopped run leaves the statistics of every frame it wrote.
-    write_atomically((std::filesystem::path(o.out) / "reference.json").string(), [&](const std::string& tmp) {
-      std::ofstream out(tmp);
-      out << stats.dump(1) << "\n";
-      out.close();  // a failed flush (disk full) must not be renamed into place
-    if (!out) throw std::runtime_error("cannot write " + tmp);
-    });
     ++completed;
   }
+  log.write(stats);
   return 0;
 }
 
 }  // namespace
 
 int run_reference(const CommonOptions& o) {
+  OutputPlan outputs;
+  outputs.folder("--out", o.out, {"reference.json"});
+  outputs.input("scene file", o.scene);
+  if (!o.frames.empty()) {
+    const FrameRange r = parse_frame_range(o.frames, "--frames");
+    outputs.frames(r.first, r.last);
+  }
+  outputs.check();
+  const MemoryLimit limit = memory_limit(o.max_memory);
+  RunShape shape;
+  shape.timed = false;
+  shape.bvh = o.accel == "bvh";
+  shape.double_precision = o.precision == "double";
+  {
+    int w = 0, h = 0;
+    parse_resolution(o.resolution, w, h);
+    const MemoryEstimate before =
+        memory_estimate(shape, std::uint64_t(w) * std::uint64_t(h), 1, {"--resolution", o.resolution});
+    refuse_if_over(before, limit);
+    limit_scene_memory(limit, shape, before);
+  }
   const Scene scene =
       load_scene(o.scene, load_options_for(o.load, o.max_object_triangles, object_split_named(o.split, o.scene)));
-  return o.precision == "double" ? reference<double>(o, scene) : reference<float>(o, scene);
+  return o.precision == "double" ? reference<double>(o, scene, outputs, limit, shape)
+                                 : reference<float>(o, scene, outputs, limit, shape);
 }
 
 }  // namespace oprt

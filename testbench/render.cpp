@@ -1,18 +1,24 @@
 #include "render.h"
 
 #include "balance/policy.h"
+#include "cost/tech.h"
 #include "timing/pipeline_timing.h"
 #include "ref/parallel.h"
 #include "ref/scene_geometry.h"
 #include "scene/error.h"
 #include "scene/load.h"
+#include "memory_estimate.h"
+#include "outputs.h"
 #include "policy_driver.h"
+#include "scene/numbers.h"
 #include "testbench.h"
+#include "hw/local_clock.h"
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <sstream>
 #include <unistd.h>
 
 #include <systemc>
@@ -23,26 +29,18 @@ extern std::function<int()> g_simulation;
 
 Arch resolve_arch(const RenderOptions& o) {
   Arch a = o.arch_file.empty() ? Arch{} : load_arch(o.arch_file);
-  if (o.ius) {
-    if (*o.ius < 1) throw InputError("--ius", std::to_string(*o.ius), "need at least one intersection unit");
-    a.ius = *o.ius;
-  }
+  if (o.ius) a.ius = *o.ius;
   if (o.level) a.level = *o.level == "at" ? Level::at : *o.level == "lt" ? Level::lt : Level::analytic;
-  if (o.quantum) a.quantum_ns = parse_time_ns(*o.quantum, "--quantum");
+  if (o.quantum) a.quantum_ns = static_cast<double>(parse_time_ps(*o.quantum, false, {"--quantum", *o.quantum})) / 1000;
   if (o.balance) a.balance = *o.balance;
-  if (o.locality) {
-    a.locality = parse_locality(*o.locality);
-    if (!a.balance_takes_locality())
-      throw InputError("--locality", *o.locality,
-                       "only --balance spatial and feedback take a locality (the balance is " + a.balance + ")");
-  }
+  if (o.locality) a.locality = parse_locality(*o.locality);
   if (o.subdivide) a.subdivide = *o.subdivide;
   if (!o.split.empty()) a.split = o.split;
   if (o.accel) a.accel = *o.accel;
   if (o.top) a.top = *o.top;
   if (o.route) a.route.policy = *o.route;
   if (o.sram) {
-    a.memory.sram_bytes = parse_bytes(*o.sram, "--sram");
+    a.memory.sram_bytes = parse_bytes(*o.sram, kMaxSramBytes, {"--sram", *o.sram});
     check_sram(a, "--sram", *o.sram);
   }
   if (o.kernel) {
@@ -52,7 +50,25 @@ Arch resolve_arch(const RenderOptions& o) {
   }
   if (o.precision) a.precision = *o.precision;
   if (o.iu) a.iu.model = *o.iu == "pipelined" ? IuModel::pipelined : IuModel::serial;
-  check_arch(a);
+  // Where a setting that check_arch refuses came from: the flag, or the file that set it
+  // (a value other than the default's; the defaults themselves are never refused).
+  const auto origin = [&](const std::string& key) -> std::string {
+    const std::string file = a.source + ": ";
+    if (key == "iu.model") return o.iu ? "--iu " + *o.iu : file + "/iu/model " + to_string(a.iu.model);
+    if (key == "accel") return o.accel ? "--accel " + *o.accel : file + "/accel " + a.accel;
+    if (key == "top") return o.top ? "--top " + *o.top : file + "/top " + a.top;
+    if (key == "balance") return o.balance ? "--balance " + *o.balance : file + "/balance " + a.balance;
+    if (key == "balance.locality") {
+      if (o.locality) return "--locality " + *o.locality;
+      std::ostringstream f;
+      f << *a.locality;
+      return file + "/balance/locality " + f.str();
+    }
+    if (key == "memory.sram_bytes")
+      return o.sram ? "--sram " + *o.sram : file + "/memory/sram_bytes " + std::to_string(a.memory.sram_bytes);
+    return file + key;
+  };
+  check_arch(a, origin);
   return a;
 }
 
@@ -75,11 +91,64 @@ TraceSelection trace_selection(const RenderOptions& o, const FrameRange& rendere
   return t;
 }
 
+// An exception out of a SystemC process arrives as SystemC's report "uncaught exception"
+// (E549) wrapping its text: the original error again, an InputError when it was one, and a
+// simulated time that would not fit reworded with the settings that make it so long.
+std::exception_ptr from_process(std::exception_ptr failure, const RenderJob& job) {
+  try {
+    try {
+      std::rethrow_exception(failure);
+    } catch (const sc_core::sc_report& r) {
+      if (std::string(r.get_msg_type()) != sc_core::SC_ID_SIMULATION_UNCAUGHT_EXCEPTION_) throw;
+      if (auto e = InputError::thrown_with_text(r.get_msg())) throw *e;
+      throw std::runtime_error(r.get_msg());
+    }
+  } catch (const InputError& e) {
+    if (e.file() != hw::kSimulatedTime) return std::current_exception();
+    const Arch& a = job.arch;
+    std::ostringstream clock;
+    clock << a.clock_mhz << " MHz";
+    return std::make_exception_ptr(InputError(
+        a.source, "/clock_mhz and /costs",
+        "in frame " + std::to_string(job.frames.first + job.completed) + " (" + e.place() + "), " + e.problem() +
+            ": at " + clock.str() + " a cycle is " + format_time_ps(static_cast<std::uint64_t>(a.cycle_ns() * 1000)) +
+            "; raise clock_mhz, lower the costs, render fewer frames in one run, or use --level analytic (cycles "
+            "without a time limit)"));
+  } catch (...) {
+    return std::current_exception();
+  }
+}
+
+// What run_render checked before loading, for the checks that need the scene.
+struct Prepared {
+  OutputPlan outputs;
+  MemoryLimit limit;
+  RunShape shape;
+};
+
 template <typename T>
-int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
+int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared& p) {
   const auto spheres = make_spheres(scene, job.arch.subdivide, split_rule_named(job.arch.split_rule),
                                     object_split_named(job.arch.split, o.scene));
   const std::size_t units = units_for(spheres.size(), static_cast<std::size_t>(job.arch.ius));
+  // The whole run, now that the scene, its image and its units are known, before the engine
+  // and the frames allocate anything.
+  p.shape.units = units;
+  std::uint64_t vertices = 0;
+  for (const Object& obj : scene.objects) vertices += obj.mesh.vertices.size();
+  const bool own_resolution = o.resolution.empty();
+  MemoryEstimate need = memory_estimate(
+      p.shape, std::uint64_t(job.width) * std::uint64_t(job.height), 1 + scene.lights.size(),
+      own_resolution ? NumberSource{o.scene, "its image, " + std::to_string(job.width) + "x" + std::to_string(job.height)}
+                     : NumberSource{"--resolution", o.resolution});
+  add_geometry(need, p.shape, vertices, scene.triangle_count(), o.scene);
+  refuse_if_over(need, p.limit);
+  if (o.check) {
+    std::printf("oprt: --check: %s: the run would need %s; it may use %s (%s); nothing rendered\n", o.scene.c_str(),
+                last_memory_estimate().c_str(), byte_count_text(p.limit.bytes).c_str(), p.limit.source.c_str());
+    return 0;
+  }
+  p.outputs.create_folders();
   if (units < static_cast<std::size_t>(job.arch.ius))
     std::printf("oprt: %d intersection units requested, the scene has %zu spheres: instantiating %zu units\n",
                 job.arch.ius, spheres.size(), units);
@@ -144,11 +213,13 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job) {
   sc_core::sc_report_handler::set_actions(sc_core::SC_ERROR, sc_core::SC_DISPLAY | sc_core::SC_THROW);
   sc_core::sc_report_handler::set_actions(sc_core::SC_FATAL, sc_core::SC_DISPLAY | sc_core::SC_THROW);
   sc_core::sc_report_handler::set_actions("/OSCI/SystemC", sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
+  // An exception out of a process: reported once, by main, as itself (from_process).
+  sc_core::sc_report_handler::set_actions(sc_core::SC_ID_SIMULATION_UNCAUGHT_EXCEPTION_, sc_core::SC_THROW);
   char arg0[] = "oprt";
   char* argv[] = {arg0, nullptr};
   const int rc = sc_core::sc_elab_and_sim(1, argv);
   g_simulation = nullptr;
-  if (failure) std::rethrow_exception(failure);
+  if (failure) std::rethrow_exception(from_process(failure, job));
   return rc;
 }
 
@@ -160,13 +231,55 @@ int run_render(const RenderOptions& o) {
   job.arch = resolve_arch(o);
   const ObjectSplit split = object_split_named(job.arch.split, o.scene);
   job.arch.split = to_string(split);  // recorded in stats.json as resolved
-  const Scene scene = load_scene(o.scene, load_options_for(o.load, o.max_object_triangles, split));
-  job.scene = &scene;
   if (job.arch.level == Level::analytic && !o.vcd.empty())
     throw InputError("--vcd", o.vcd, "the analytic level has no simulated signals to trace (use --level at or lt)");
   if (job.arch.level == Level::analytic && !o.timeline.empty())
     throw InputError("--timeline", o.timeline,
                      "the analytic level has no simulated transactions to trace (use --level at or lt)");
+  if (o.trace_buffer && o.vcd.empty())
+    throw InputError("--trace-buffer", std::to_string(*o.trace_buffer),
+                     "sizes the --vcd writer's buffer, and --vcd is not given");
+
+  if (!o.tech.empty()) (void)load_tech(o.tech);  // its errors before anything else is read
+
+  // Every output, before anything is loaded or written.
+  Prepared p;
+  OutputPlan& outputs = p.outputs;
+  outputs.folder("--out", o.out, {"stats.json", "stats.csv"});
+  outputs.file("--vcd", o.vcd, trace_companions(o.vcd));
+  outputs.file("--timeline", o.timeline);
+  outputs.input("scene file", o.scene);
+  outputs.input("architecture file", o.arch_file);
+  outputs.input("technology table", o.tech);
+  if (!o.frames.empty()) {
+    const FrameRange r = parse_frame_range(o.frames, "--frames");
+    outputs.frames(r.first, r.last);
+  }
+  outputs.check();
+
+  // Memory: what the run may use, and what it needs besides the scene's geometry, which the
+  // loaders charge as they make it.
+  p.limit = memory_limit(o.max_memory);
+  p.shape.timed = true;
+  p.shape.level = job.arch.level;
+  p.shape.units = static_cast<std::uint64_t>(job.arch.ius);
+  p.shape.bvh = job.arch.accel == "bvh";
+  p.shape.double_precision = job.arch.precision == "double";
+  p.shape.sram_bytes = job.arch.memory.sram_bytes;
+  p.shape.line_bytes = static_cast<std::uint64_t>(job.arch.memory.cache.line_bytes);
+  p.shape.trace_changes = o.vcd.empty() ? 0 : o.trace_buffer.value_or(VcdWriter::kDefaultBudget);
+  p.shape.timeline = !o.timeline.empty();
+  {
+    int w = 0, h = 0;
+    parse_resolution(o.resolution, w, h);
+    const MemoryEstimate before = memory_estimate(p.shape, std::uint64_t(w) * std::uint64_t(h), 1,
+                                                  {"--resolution", o.resolution});
+    refuse_if_over(before, p.limit);
+    limit_scene_memory(p.limit, p.shape, before);
+  }
+
+  const Scene scene = load_scene(o.scene, load_options_for(o.load, o.max_object_triangles, split));
+  job.scene = &scene;
   job.width = scene.width;
   job.height = scene.height;
   parse_resolution(o.resolution, job.width, job.height);
@@ -176,18 +289,9 @@ int run_render(const RenderOptions& o) {
   job.vcd_path = o.vcd;
   job.timeline_path = o.timeline;
   job.trace = trace_selection(o, job.frames);
-  if (o.trace_buffer) {
-    if (o.vcd.empty())
-      throw InputError("--trace-buffer", std::to_string(*o.trace_buffer),
-                       "sizes the --vcd writer's buffer, and --vcd is not given");
-    job.trace_budget = *o.trace_buffer;
-  }
+  if (o.trace_buffer) job.trace_budget = *o.trace_buffer;
   job.progress = o.progress && ::isatty(2);
-  std::filesystem::create_directories(o.out);
-  for (const std::string& f : {o.vcd, o.timeline})
-    if (!f.empty() && std::filesystem::path(f).has_parent_path())
-      std::filesystem::create_directories(std::filesystem::path(f).parent_path());
-  return job.arch.precision == "double" ? render<double>(o, scene, job) : render<float>(o, scene, job);
+  return job.arch.precision == "double" ? render<double>(o, scene, job, p) : render<float>(o, scene, job, p);
 }
 
 }  // namespace oprt

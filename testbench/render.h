@@ -17,10 +17,12 @@ struct RenderOptions {
   std::string scene, arch_file, frames, resolution, out = "out", vcd, timeline;
   std::optional<std::string> trace_frames, trace_window, trace_units, trace_signals;  // what the traces hold
   std::optional<std::size_t> trace_buffer;  // changes the waveform writer may hold
+  std::optional<std::string> max_memory;    // --max-memory: a byte count
   std::optional<int> ius, subdivide;
   std::optional<std::string> level, quantum, balance, locality, accel, top, route, kernel, precision, sram, iu;
   std::string tech;  // technology table; empty: the built-in 65 nm one
   bool progress = true;  // on a terminal only
+  bool check = false;    // --check: every check a render makes, then stop (scripts/sweep)
   std::string split;     // "": the architecture file's, else the format's default
   std::optional<std::size_t> max_object_triangles;
   LoadOptions load;

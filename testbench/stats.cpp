@@ -2,6 +2,7 @@
 
 #include "ref/image.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -141,74 +142,84 @@ void StatsWriter::set_area(const Cost& area) {
   area_total_ = area.total;
 }
 
-StatsWriter::StatsWriter(std::string dir, nlohmann::json header) : dir_(std::move(dir)), doc_(std::move(header)) {}
+StatsWriter::StatsWriter(std::string dir, nlohmann::json header)
+    : dir_(std::move(dir)),
+      csv_tmp_(temporary_path((std::filesystem::path(dir_) / "stats.csv").string())),
+      doc_(std::move(header)),
+      json_((std::filesystem::path(dir_) / "stats.json").string()) {}
+
+StatsWriter::~StatsWriter() {
+  try {
+    finish();  // the frames completed before an error: as after a stop
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "oprt: %s\n", e.what());
+  }
+  csv_.close();
+  std::remove(csv_tmp_.c_str());
+}
 
 void StatsWriter::add(const FrameStats& f) {
-  frames_.push_back(f);
-  nlohmann::json frames = nlohmann::json::array();
-  double wall = 0, eff = 0, idle = 0, energy = 0, frame_time = 0;
-  std::uint64_t makespan = 0, rays = 0, busy = 0, load_bytes = 0, load_cycles = 0, refit_cycles = 0;
-  for (const FrameStats& x : frames_) {
-    if (x.energy) energy += x.energy->total;
-    frame_time += x.frame_time_s;
-    frames.push_back(to_json(x));
-    wall += x.wall_s;
-    eff += x.efficiency();
-    idle += x.idle_fraction();
-    makespan += x.makespan;
-    busy += x.busy();
-    rays += x.rays[0] + x.rays[1];
-    load_bytes += x.memory_load_bytes;
-    load_cycles += x.memory_load_cycles;
-    refit_cycles += x.refit_cycles;
-  }
-  nlohmann::json doc = doc_;
-  doc["summary"] = {{"frames", frames_.size()},
-                    {"makespan_cycles_total", makespan},
-                    {"parallel_efficiency_mean", eff / frames_.size()},
-                    {"idle_fraction_mean", idle / frames_.size()},
-                    {"busy_cycles_total", busy},
-                    {"memory_load_bytes_total", load_bytes},
-                    {"memory_load_cycles_total", load_cycles},
-                    {"gpp_refit_cycles_total", refit_cycles},
-                    {"wall_s", wall},
-                    {"rays", rays},
-                    {"rays_per_wall_s", wall > 0 ? rays / wall : 0},
-                    {"frame_time_s_total", frame_time}};
-  if (frames_.back().energy) doc["summary"]["energy_j_total"] = energy;
-  doc["frames"] = frames;
-  const auto dir = std::filesystem::path(dir_);
-  write_atomically((dir / "stats.json").string(), [&](const std::string& tmp) {
-    std::ofstream out(tmp);
-    out << doc.dump(1) << "\n";
-    out.close();  // a failed flush (disk full) must not be renamed into place
-    if (!out) throw std::runtime_error("cannot write " + tmp);
-  });
-  write_atomically((dir / "stats.csv").string(), [&](const std::string& tmp) {
-    std::ofstream out(tmp);
+  if (!csv_.is_open()) {
+    csv_.open(csv_tmp_, std::ios::binary | std::ios::trunc);
     // box (--accel bvh), node (--top bvh) and the frame's totals last, so that existing
     // column positions stay.
-    out << "frame,iu,spheres,primitives,rays,sphere,transform,primitive,idle,stall,busy,makespan,parallel_efficiency,"
-           "box,node,frame_time_s,energy_j,area_mm2,fanout_mean,fanout_max,fanout_histogram,route_cycles,route_skipped,"
-           "bus_bytes_per_ray\n";
-    for (const FrameStats& x : frames_)
-      for (const UnitFrameStats& u : x.units) {
-        out << x.frame << ',' << u.id << ',' << u.spheres.size() << ',' << u.primitives << ',' << u.rays << ','
-            << u.cycles.sphere << ',' << u.cycles.transform << ',' << u.cycles.primitive << ',' << u.idle << ','
-            << u.cycles.stall << ',' << u.busy_cycles() << ',' << x.makespan << ',' << x.efficiency() << ','
-            << u.cycles.box << ',' << u.cycles.node << ',' << x.frame_time_s << ',';
-        if (x.energy) out << x.energy->total;
-        out << ',';
-        if (area_total_) out << *area_total_;
-        out << ',' << x.fanout_mean() << ',' << x.fanout_max() << ',';
-        for (std::size_t k = 0; k < x.route.fanout.size(); ++k) out << (k ? " " : "") << x.route.fanout[k];
-        const std::uint64_t rays = x.rays[0] + x.rays[1];
-        out << ',' << x.route.cycles << ',' << x.route.skipped << ','
-            << (rays ? static_cast<double>(x.bus_bytes) / static_cast<double>(rays) : 0.0) << '\n';
-      }
-    out.close();  // a failed flush (disk full) must not be renamed into place
-    if (!out) throw std::runtime_error("cannot write " + tmp);
-  });
+    csv_ << "frame,iu,spheres,primitives,rays,sphere,transform,primitive,idle,stall,busy,makespan,parallel_efficiency,"
+            "box,node,frame_time_s,energy_j,area_mm2,fanout_mean,fanout_max,fanout_histogram,route_cycles,route_skipped,"
+            "bus_bytes_per_ray\n";
+  }
+  const std::uint64_t rays = f.rays[0] + f.rays[1];
+  for (const UnitFrameStats& u : f.units) {
+    csv_ << f.frame << ',' << u.id << ',' << u.spheres.size() << ',' << u.primitives << ',' << u.rays << ','
+         << u.cycles.sphere << ',' << u.cycles.transform << ',' << u.cycles.primitive << ',' << u.idle << ','
+         << u.cycles.stall << ',' << u.busy_cycles() << ',' << f.makespan << ',' << f.efficiency() << ','
+         << u.cycles.box << ',' << u.cycles.node << ',' << f.frame_time_s << ',';
+    if (f.energy) csv_ << f.energy->total;
+    csv_ << ',';
+    if (area_total_) csv_ << *area_total_;
+    csv_ << ',' << f.fanout_mean() << ',' << f.fanout_max() << ',';
+    for (std::size_t k = 0; k < f.route.fanout.size(); ++k) csv_ << (k ? " " : "") << f.route.fanout[k];
+    csv_ << ',' << f.route.cycles << ',' << f.route.skipped << ','
+         << (rays ? static_cast<double>(f.bus_bytes) / static_cast<double>(rays) : 0.0) << '\n';
+  }
+  csv_.flush();
+  if (!csv_) throw std::runtime_error("cannot write " + csv_tmp_);
+  json_.add(to_json(f));
+  ++frames_;
+  if (f.energy) energy_ += f.energy->total;
+  energy_known_ = f.energy.has_value();
+  frame_time_ += f.frame_time_s;
+  wall_ += f.wall_s;
+  efficiency_ += f.efficiency();
+  idle_ += f.idle_fraction();
+  makespan_ += f.makespan;
+  busy_ += f.busy();
+  rays_ += f.rays[0] + f.rays[1];
+  load_bytes_ += f.memory_load_bytes;
+  load_cycles_ += f.memory_load_cycles;
+  refit_cycles_ += f.refit_cycles;
+}
+
+void StatsWriter::finish() {
+  if (finished_ || frames_ == 0) return;
+  finished_ = true;
+  nlohmann::json doc = doc_;
+  doc["summary"] = {{"frames", frames_},
+                    {"makespan_cycles_total", makespan_},
+                    {"parallel_efficiency_mean", efficiency_ / frames_},
+                    {"idle_fraction_mean", idle_ / frames_},
+                    {"busy_cycles_total", busy_},
+                    {"memory_load_bytes_total", load_bytes_},
+                    {"memory_load_cycles_total", load_cycles_},
+                    {"gpp_refit_cycles_total", refit_cycles_},
+                    {"wall_s", wall_},
+                    {"rays", rays_},
+                    {"rays_per_wall_s", wall_ > 0 ? rays_ / wall_ : 0},
+                    {"frame_time_s_total", frame_time_}};
+  if (energy_known_) doc["summary"]["energy_j_total"] = energy_;
+  json_.write(doc);
+  csv_.close();  // a failed flush (disk full) must not be renamed into place
+  if (!csv_) throw std::runtime_error("cannot write " + csv_tmp_);
+  std::filesystem::rename(csv_tmp_, std::filesystem::path(dir_) / "stats.csv");
 }
 
 }  // namespace oprt

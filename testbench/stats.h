@@ -10,8 +10,10 @@
 #include "timing/unit_cycles.h"
 #include "timing/unit_run.h"
 #include "ref/work.h"
+#include "frame_log.h"
 
 #include <array>
+#include <fstream>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -74,20 +76,35 @@ struct FrameStats {
   double idle_fraction() const;
 };
 
+// stats.json and stats.csv. Each frame's row is appended to stats.csv's temporary file and its
+// JSON to stats.json's spool (frame_log.h) as it completes; finish() writes both under their
+// final names. Time and memory per frame stay flat however long the run. A run that is
+// stopped (SIGINT, SIGTERM) or fails after its first frame still gets both files, listing the
+// frames it completed (the destructor finishes what finish() was not called for); one killed
+// outright leaves only hidden temporaries.
 class StatsWriter {
  public:
   StatsWriter(std::string dir, nlohmann::json header);
-  // Adds the frame and rewrites both files (atomically): an interrupted run leaves the
-  // stats of every completed frame.
+  ~StatsWriter();
+  StatsWriter(const StatsWriter&) = delete;
+  StatsWriter& operator=(const StatsWriter&) = delete;
   void add(const FrameStats& f);
   // The run's area (a technology table): kept in the header, its total in every CSV row.
   void set_area(const Cost& area);
+  void finish();
 
  private:
-  std::string dir_;
+  std::string dir_, csv_tmp_;
   nlohmann::json doc_;
-  std::vector<FrameStats> frames_;
+  FrameLog json_;
+  std::ofstream csv_;
   std::optional<double> area_total_;
+  // The summary's running sums.
+  std::size_t frames_ = 0;
+  double wall_ = 0, efficiency_ = 0, idle_ = 0, energy_ = 0, frame_time_ = 0;
+  std::uint64_t makespan_ = 0, rays_ = 0, busy_ = 0, load_bytes_ = 0, load_cycles_ = 0, refit_cycles_ = 0;
+  bool energy_known_ = false;
+  bool finished_ = false;
 };
 
 nlohmann::json to_json(const FrameStats& f);

@@ -88,6 +88,7 @@ class Testbench : public sc_module {
       if (sel.frames && f == sel.frames->last)
         set_trace_window(trace_from_, std::min<std::uint64_t>(sel.to_ps, last_frame_end_));
     }
+    if (stats_) stats_->finish();
     close_trace(sc_time_stamp().value());
   }
 
@@ -130,6 +131,7 @@ class Testbench : public sc_module {
   // (it is flushed within frames): it ends there.
   void stopped() {
     if (job_.completed == 0) return;
+    if (stats_) stats_->finish();
     std::uint64_t end = last_frame_end_;
     if (vcd_) {
       end = std::max(end, vcd_->flushed());
@@ -267,6 +269,7 @@ void run_analytic(RenderJob& job, SceneGeometry<T>& geometry) {
     const FrameStats fs = frame_stats(run, job, geometry, f, seconds_since(t0), image);
     finish_frame(job, stats.get(), fs, std::move(image));
   }
+  if (stats) stats->finish();
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "trace_select.h"
 
 #include "scene/error.h"
+#include "scene/numbers.h"
 
 #include <algorithm>
 #include <cctype>
@@ -42,12 +43,9 @@ std::string trim(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t") - b + 1);
 }
 
-bool parse_count(const std::string& s, long long& out) {
-  if (s.empty() || s.size() > 9) return false;
-  for (char c : s)
-    if (!std::isdigit(static_cast<unsigned char>(c))) return false;
-  out = std::stoll(s);
-  return true;
+// A unit number as --trace-units takes it (the architecture allows 65536 units).
+int unit_number(const std::string& s, const std::string& text) {
+  return static_cast<int>(parse_count(s, 0, 65535, {"--trace-units", text}));
 }
 
 std::string list(const std::vector<std::string>& v) {
@@ -96,56 +94,12 @@ bool TraceSelection::traces_signal(const std::string& scope, const std::string& 
 }
 
 FrameRange parse_trace_frames(const std::string& text, const FrameRange& rendered) {
-  const auto colon = text.find(':');
-  long long a, b;
-  const bool ok = colon == std::string::npos
-                      ? parse_count(text, a) && (b = a, true)
-                      : parse_count(text.substr(0, colon), a) && parse_count(text.substr(colon + 1), b);
-  if (!ok) throw InputError("--trace-frames", text, "expected N or A:B (frame numbers, inclusive)");
-  if (a > b) throw InputError("--trace-frames", text, "first frame is after the last");
-  if (a < rendered.first || b > rendered.last)
+  const FrameRange r = parse_frame_range(text, "--trace-frames");
+  if (r.first < rendered.first || r.last > rendered.last)
     throw InputError("--trace-frames", text,
                      "the run renders frames " + std::to_string(rendered.first) + ":" + std::to_string(rendered.last) +
                          " only (--frames)");
-  return {static_cast<int>(a), static_cast<int>(b)};
-}
-
-std::uint64_t parse_time_ps(const std::string& text, const std::string& option) {
-  const std::string t = trim(text);
-  const char* s = t.c_str();
-  char* end = nullptr;
-  const double v = std::strtod(s, &end);
-  const std::string expected = "expected a time such as 10us or 2ms (ps, ns, us, ms, s)";
-  if (end == s || t[0] == '-' || t[0] == '+' || !std::isfinite(v)) throw InputError(option, text, expected);
-  const std::string unit = trim(end);
-  double scale;
-  if (unit == "ps") scale = 1;
-  else if (unit == "ns") scale = 1e3;
-  else if (unit == "us") scale = 1e6;
-  else if (unit == "ms") scale = 1e9;
-  else if (unit == "s") scale = 1e12;
-  else if (unit.empty() && v == 0) scale = 1;
-  else if (unit.empty()) throw InputError(option, text, "a time needs a unit (ps, ns, us, ms, s)");
-  else throw InputError(option, text, "unknown time unit \"" + unit + "\" (expected ps, ns, us, ms or s)");
-  const double ps = v * scale;
-  if (ps >= 1.8e19) throw InputError(option, text, "time too large");
-  return static_cast<std::uint64_t>(std::llround(ps));
-}
-
-std::string format_time_ps(std::uint64_t ps) {
-  static const std::pair<std::uint64_t, const char*> kUnits[] = {
-      {1000000000000ULL, "s"}, {1000000000ULL, "ms"}, {1000000ULL, "us"}, {1000ULL, "ns"}};
-  for (const auto& [scale, name] : kUnits)
-    if (ps >= scale) {
-      std::string s = std::to_string(ps / scale);
-      if (std::uint64_t frac = ps % scale) {
-        std::string f = std::to_string(frac + scale).substr(1);  // leading zeros kept
-        f.erase(f.find_last_not_of('0') + 1);
-        s += "." + f;
-      }
-      return s + name;
-    }
-  return std::to_string(ps) + "ps";
+  return r;
 }
 
 void parse_trace_window(const std::string& text, std::uint64_t& from_ps, std::uint64_t& to_ps) {
@@ -153,8 +107,8 @@ void parse_trace_window(const std::string& text, std::uint64_t& from_ps, std::ui
   if (colon == std::string::npos || text.find(':', colon + 1) != std::string::npos)
     throw InputError("--trace-window", text, "expected T0:T1 such as 10us:2ms (either side may be empty)");
   const std::string a = trim(text.substr(0, colon)), b = trim(text.substr(colon + 1));
-  from_ps = a.empty() ? 0 : parse_time_ps(a, "--trace-window");
-  to_ps = b.empty() ? TraceSelection::kNever : parse_time_ps(b, "--trace-window");
+  from_ps = a.empty() ? 0 : parse_time_ps(a, true, {"--trace-window", a});
+  to_ps = b.empty() ? TraceSelection::kNever : parse_time_ps(b, true, {"--trace-window", b});
   if (from_ps >= to_ps) throw InputError("--trace-window", text, "the window must end after it starts");
 }
 
@@ -166,14 +120,13 @@ std::vector<int> parse_trace_units(const std::string& text) {
     const std::size_t e = text.find(',', b);
     const std::string item = trim(text.substr(b, e == std::string::npos ? std::string::npos : e - b));
     const auto dash = item.find('-');
-    long long lo, hi;
-    const bool ok = dash == std::string::npos
-                        ? parse_count(item, lo) && (hi = lo, true)
-                        : parse_count(trim(item.substr(0, dash)), lo) && parse_count(trim(item.substr(dash + 1)), hi);
-    if (!ok) throw InputError("--trace-units", text, expected);
+    if (item.empty() || item.find_first_not_of("0123456789- \t") != std::string::npos || dash == 0 ||
+        dash == item.size() - 1 || (dash != std::string::npos && item.find('-', dash + 1) != std::string::npos))
+      throw InputError("--trace-units", text, expected);
+    const int lo = unit_number(dash == std::string::npos ? item : trim(item.substr(0, dash)), text);
+    const int hi = dash == std::string::npos ? lo : unit_number(trim(item.substr(dash + 1)), text);
     if (lo > hi) throw InputError("--trace-units", text, "range " + item + " ends before it starts");
-    if (hi - lo > 1 << 20) throw InputError("--trace-units", text, "range " + item + " is too long");
-    for (long long u = lo; u <= hi; ++u) units.push_back(static_cast<int>(u));
+    for (int u = lo; u <= hi; ++u) units.push_back(u);
     if (e == std::string::npos) break;
     b = e + 1;
   }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "options.h"
+#include "scene/numbers.h"  // parse_time_ps, format_time_ps
 
 #include <cstdint>
 #include <optional>
@@ -46,9 +47,5 @@ std::vector<int> parse_trace_units(const std::string& text);
 void check_trace_units(const std::string& text, const std::vector<int>& units, std::size_t unit_count);
 // "state,fifo,bus,gpp,memory,stage".
 std::vector<std::string> parse_trace_signals(const std::string& text);
-// "1.5ms" as picoseconds ("0" needs no unit).
-std::uint64_t parse_time_ps(const std::string& text, const std::string& option);
-// Picoseconds as the shortest exact text with a unit ("1.5ms", "90ns").
-std::string format_time_ps(std::uint64_t ps);
 
 }  // namespace oprt

@@ -2,10 +2,13 @@
 
 #include "balance/spatial.h"
 #include "scene/json_in.h"
+#include "scene/numbers.h"
 
 #include <cctype>
 #include <cmath>
+#include <sstream>
 #include <cstdlib>
+#include <functional>
 
 namespace oprt {
 
@@ -22,20 +25,7 @@ const char* to_string(DramPath p) { return p == DramPath::channel ? "channel" : 
 const char* to_string(IuModel m) { return m == IuModel::serial ? "serial" : "pipelined"; }
 
 double parse_time_ns(const std::string& text, const std::string& what) {
-  const char* s = text.c_str();
-  char* end = nullptr;
-  const double v = std::strtod(s, &end);
-  if (end == s || !std::isfinite(v) || v <= 0) throw InputError(what, text, "expected a positive time such as \"10 ns\" or \"1us\"");
-  std::string unit(end);
-  unit.erase(0, unit.find_first_not_of(' '));
-  double scale;
-  if (unit == "ps") scale = 1e-3;
-  else if (unit == "ns") scale = 1;
-  else if (unit == "us") scale = 1e3;
-  else if (unit == "ms") scale = 1e6;
-  else if (unit == "s") scale = 1e9;
-  else throw InputError(what, text, "unknown time unit \"" + unit + "\" (expected ps, ns, us, ms or s)");
-  return v * scale;
+  return static_cast<double>(parse_time_ps(text, false, {what, text})) / 1000;
 }
 
 namespace {
@@ -194,7 +184,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
       a.memory.model = choose<MemoryModel>(*v, {{"ideal", MemoryModel::ideal}, {"latency", MemoryModel::latency}});
     a.memory.latency_cycles = static_cast<int>(m->integer_or("latency_cycles", a.memory.latency_cycles, 0, 1 << 20));
     a.memory.bytes_per_cycle = static_cast<int>(m->integer_or("bytes_per_cycle", a.memory.bytes_per_cycle, 1, 1 << 20));
-    a.memory.sram_bytes = static_cast<std::uint64_t>(m->integer_or("sram_bytes", 0, 0, 1LL << 40));
+    a.memory.sram_bytes = m->bytes_or("sram_bytes", 0, kMaxSramBytes);
     if (auto c = m->find("cache")) {
       c->only_keys({"line_bytes", "ways", "replacement", "misses_outstanding"});
       if (auto v = c->find("line_bytes")) {
@@ -229,7 +219,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   }
   if (auto v = root.find("level"))
     a.level = choose<Level>(*v, {{"at", Level::at}, {"lt", Level::lt}, {"analytic", Level::analytic}});
-  if (auto v = root.find("quantum")) a.quantum_ns = parse_time_ns(v->string(), file + ": /quantum");
+  if (auto v = root.find("quantum")) a.quantum_ns = parse_time_ps(v->string(), false, {file, v->place()}) / 1000.0;
   if (auto v = root.find("balance")) read_balance(*v, a);
   a.subdivide = static_cast<int>(root.integer_or("subdivide", a.subdivide, 1, 4096));
   if (auto v = root.find("split_rule")) a.split_rule = one_of(*v, {"balanced", "median"});
@@ -244,10 +234,13 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
   return a;
 }
 
-void check_arch(const Arch& a) {
-  if (a.locality && !a.balance_takes_locality())
-    throw InputError(a.source, "balance.locality with balance " + a.balance,
-                     "only spatial and feedback take a locality (tight unit bounds against balance)");
+void check_arch(const Arch& a, const std::function<std::string(const std::string& key)>& origin) {
+  if (a.locality && !a.balance_takes_locality()) {
+    const std::string problem = "only spatial and feedback take a locality (tight unit bounds against balance)";
+    // Named by where each setting came from (a flag or the file) when the caller knows.
+    if (origin) throw InputError(origin("balance.locality") + " with " + origin("balance"), "", problem);
+    throw InputError(a.source, "balance.locality with balance " + a.balance, problem);
+  }
   // Every combination of the unit, its acceleration, the tree over its spheres and its
   // memory is modelled at every level: nothing else to refuse.
 }

@@ -8,6 +8,7 @@
 #include "arch/cycle_costs.h"
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -126,8 +127,9 @@ struct Arch {
 };
 
 // Throws InputError (file, JSON path, problem) on any unknown key or impossible value.
-// check_arch: combinations the model does not support (after command-line overrides).
-void check_arch(const Arch& a);
+// check_arch: combinations the model does not support (after command-line overrides);
+// `origin` names a setting by where it came from ("--iu pipelined", "arch.json: /top bvh").
+void check_arch(const Arch& a, const std::function<std::string(const std::string& key)>& origin = {});
 Arch load_arch(const std::string& path);
 Arch arch_from_json(const nlohmann::json& doc, const std::string& file);
 nlohmann::json to_json(const Arch& a);
@@ -135,7 +137,8 @@ nlohmann::json to_json(const Arch& a);
 // Throws InputError(file, place) if a limited object memory cannot hold one cache set.
 void check_sram(const Arch& a, const std::string& file, const std::string& place);
 
-// "10 ns", "1us", "100 us", "2.5 ms" -> nanoseconds. Throws InputError naming `what`.
+// "10 ns", "1us", "100 us", "2.5 ms" -> nanoseconds (scene/numbers.h parse_time_ps). Throws
+// InputError naming `what`.
 double parse_time_ns(const std::string& text, const std::string& what);
 
 const char* to_string(Level l);

@@ -1,6 +1,7 @@
 #include "cost/cost_model.h"
 
 #include "geom/bvh.h"
+#include "scene/error.h"
 #include "geom/triangle_soa.h"
 #include "timing/bytes.h"
 
@@ -218,6 +219,21 @@ void precision_note(Builder& b, const Design& d) {
 
 }  // namespace
 
+namespace {
+// Every figure of a table's cost, checked where it is formed: a product of a table's value
+// and a run's counts that overflows, or a size curve extrapolated to infinity, names the table
+// instead of reaching stats.json as null or stats.csv as inf.
+Cost finite(Cost c, const Tech& t, const char* what) {
+  for (const auto& comp : c.components)
+    if (comp.value && !std::isfinite(*comp.value))
+      throw InputError(t.file, comp.name,
+                       std::string("the run's ") + what + " is not a finite number with this table's values: lower them");
+  if (!std::isfinite(c.total))
+    throw InputError(t.file, "", std::string("the run's total ") + what + " is not a finite number with this table's values");
+  return c;
+}
+}  // namespace
+
 Cost area_mm2(const Tech& t, const Design& d) {
   Builder b;
   const auto n = static_cast<double>(d.units.size());
@@ -260,7 +276,7 @@ Cost area_mm2(const Tech& t, const Design& d) {
                [&](std::size_t u) { return d.units[u].fifo_bytes ? 1.0 : 0.0; },
                [&](std::size_t u) { return static_cast<double>(d.units[u].fifo_bytes); });
   precision_note(b, d);
-  return b.take();
+  return finite(b.take(), t, "area");
 }
 
 Cost frame_energy_j(const Tech& t, const Design& d, const OpCounts& per_op, const FrameActivity& f) {
@@ -351,7 +367,7 @@ Cost frame_energy_j(const Tech& t, const Design& d, const OpCounts& per_op, cons
   if (!area_complete && ((f.bus_bytes && wire) || (f.frame_time_s > 0 && leakage_pj_per_s)))
     b.note("bus, leakage: the area they scale with has uncharged components: an under-estimate");
   precision_note(b, d);
-  return b.take();
+  return finite(b.take(), t, "energy");
 }
 
 namespace {

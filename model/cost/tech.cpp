@@ -36,6 +36,8 @@ SizeCurve::Lookup SizeCurve::at(double bytes) const {
 
 namespace {
 
+constexpr double kMinValue = 1e-30, kMaxValue = 1e30;
+
 // The kinds of quantity a table holds, and the units each may be written in (scale to
 // the unit Tech stores).
 enum class Kind { area, energy, bytes, wire, power_density, length };
@@ -48,7 +50,8 @@ struct UnitName {
 const std::vector<UnitName>& units_of(Kind k) {
   static const std::vector<UnitName> area{{"mm2", 1}, {"um2", 1e-6}};
   static const std::vector<UnitName> energy{{"pJ", 1}, {"fJ", 1e-3}, {"nJ", 1e3}};
-  static const std::vector<UnitName> bytes{{"bytes", 1}, {"KiB", 1024}, {"MiB", 1024.0 * 1024}};
+  static const std::vector<UnitName> bytes{
+      {"bytes", 1}, {"KiB", 1024}, {"MiB", 1024.0 * 1024}, {"GiB", 1024.0 * 1024 * 1024}, {"TiB", 1024.0 * 1024 * 1024 * 1024}};
   static const std::vector<UnitName> wire{{"pJ/bit/mm", 1}, {"fJ/bit/mm", 1e-3}};
   static const std::vector<UnitName> power{{"W/mm2", 1}, {"mW/mm2", 1e-3}};
   static const std::vector<UnitName> length{{"nm", 1}};
@@ -99,6 +102,16 @@ class Reader {
       list += std::string(list.empty() ? "" : ", ") + n.name;
     }
     if (scale == 0) u.fail("unit \"" + unit + "\" is not " + kind_name(k) + " (expected one of: " + list + ")");
+    // One range for every value, in the unit it is kept in: wide enough for any technology,
+    // narrow enough that a value times a run's counts (below 2^64) stays a finite double.
+    const double kept = value * scale;
+    if (!(kept >= kMinValue && kept <= kMaxValue)) {
+      std::ostringstream s;
+      s << "value " << value << " " << unit << " is " << kept << " " << units_of(k).front().name
+        << ", outside the range a table may hold, [" << kMinValue << ", " << kMaxValue << "] "
+        << units_of(k).front().name;
+      v.fail(s.str());
+    }
     const JsonIn src = j.at("source");
     const std::string source = src.string();
     if (!sources_.count(source)) src.fail("unknown source \"" + source + "\" (list it under /sources)");
@@ -109,7 +122,7 @@ class Reader {
     const auto note = j.find("note");
     if (note && note->string().empty()) note->fail("empty note");
     if (basis != "quoted" && !note) j.fail("a " + basis + " value needs a \"note\" saying how it was obtained");
-    return value * scale;
+    return kept;
   }
 
   std::optional<double> optional(const JsonIn& parent, const char* key, Kind k) const {

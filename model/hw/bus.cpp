@@ -1,5 +1,7 @@
 #include "hw/bus.h"
 
+#include "hw/local_clock.h"
+
 #include <algorithm>
 
 namespace oprt::hw {
@@ -55,7 +57,10 @@ void Bus::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
     busy_cycles_ += cycles;
     arbiter_.forget_before(sc_time_stamp());
     sc_time start;
-    const sc_time end = arbiter_.reserve(sc_time_stamp() + delay, cycle_ * static_cast<double>(cycles), &start);
+    const sc_time request = sc_time_stamp() + delay, length = cycle_ * static_cast<double>(cycles);
+    check_fits(request, length);
+    const sc_time end = arbiter_.reserve(request, length, &start);
+    if (end < request) time_overflow(request, length);  // the calendar's end wrapped: refused
     if (vcd_) {
       vcd_->change(vcd_busy_, start.value(), 1);
       vcd_->change(vcd_busy_, end.value(), 0);

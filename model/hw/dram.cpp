@@ -1,6 +1,7 @@
 #include "hw/dram.h"
 
 #include "hw/extensions.h"
+#include "hw/local_clock.h"
 
 namespace oprt::hw {
 
@@ -32,7 +33,11 @@ void Dram::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
   Calendar<sc_time>& c = channels_[channel];
   c.forget_before(sc_time_stamp());  // every requester's time is at or after simulation time
   sc_time start;
-  const sc_time end = c.reserve(sc_time_stamp() + delay, transfer_, &start);
+  const sc_time request = sc_time_stamp() + delay;
+  check_fits(request, transfer_);
+  const sc_time end = c.reserve(request, transfer_, &start);
+  if (end < request) time_overflow(request, transfer_);  // the calendar's end wrapped: refused
+  check_fits(end, latency_);
   delay = end + latency_ - sc_time_stamp();
   bytes_ += p.get_data_length();
   p.set_response_status(tlm::TLM_OK_RESPONSE);

@@ -12,12 +12,30 @@
 //    Local time is then the time its last ray finished, or simulation time if later.
 #pragma once
 
+#include "scene/error.h"
+#include "scene/numbers.h"
+
 #include <algorithm>
 
 #include <systemc>
 #include <tlm_utils/tlm_quantumkeeper.h>
 
 namespace oprt::hw {
+
+// Simulated time is SystemC's 64-bit count of picoseconds. A delay that would carry a
+// process's time past its largest value, 2^64 - 1 ps (about 213 days), is refused where the
+// time is formed, here, rather than wrapped: an InputError whose file is kSimulatedTime, which
+// the testbench rewords with the settings that make the time so long.
+constexpr const char* kSimulatedTime = "simulated time";
+
+[[noreturn]] inline void time_overflow(const sc_core::sc_time& at, const sc_core::sc_time& delay) {
+  throw InputError(kSimulatedTime, "at " + format_time_ps(at.value()),
+                   "a delay of " + format_time_ps(delay.value()) +
+                       " would pass 2^64 - 1 ps (about 213 days), the longest time SystemC can hold");
+}
+inline void check_fits(const sc_core::sc_time& at, const sc_core::sc_time& delay) {
+  if (delay.value() > sc_core::sc_max_time().value() - at.value()) time_overflow(at, delay);
+}
 
 class LocalClock {
  public:
@@ -38,6 +56,7 @@ class LocalClock {
 
   void advance(const sc_core::sc_time& d) {
     if (d == sc_core::SC_ZERO_TIME) return;
+    check_fits(now(), d);
     switch (mode_) {
       case Mode::exact: sc_core::wait(d); return;
       case Mode::quantum:

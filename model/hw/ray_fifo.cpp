@@ -7,7 +7,7 @@ namespace oprt::hw {
 using namespace sc_core;
 
 RayFifo::RayFifo(const sc_module_name& name, int depth, VcdWriter* vcd)
-    : sc_module(name), in("in"), depth_(depth), pop_time_(depth > 0 ? depth : 0), vcd_(vcd) {
+    : sc_module(name), in("in"), depth_(depth), vcd_(vcd) {
   in.register_b_transport(this, &RayFifo::b_transport);
   if (vcd_ && (vcd_var_ = vcd_->add_counter(this->name(), "occupancy", 32)) == VcdWriter::kNotTraced) vcd_ = nullptr;
 }
@@ -15,7 +15,7 @@ RayFifo::RayFifo(const sc_module_name& name, int depth, VcdWriter* vcd)
 
 sc_time RayFifo::space_time() const {
   if (depth_ == 0 || pushes_ < static_cast<std::uint64_t>(depth_)) return SC_ZERO_TIME;
-  return pop_time_[(pushes_ - depth_) % depth_];
+  return pop_time_[pushes_ - depth_ - pop_time_first_];  // has_space(): that pop has happened
 }
 
 void RayFifo::b_transport(tlm::tlm_generic_payload& p, sc_time& delay) {
@@ -74,8 +74,13 @@ bool RayFifo::pop(RayEntry& e, const sc_time& at) {
   if (queue_.empty()) return false;
   e = queue_.front();
   queue_.pop_front();
-  if (depth_ > 0) pop_time_[pops_ % depth_] = std::max(at, e.avail);
   const sc_time t = std::max(at, e.avail);
+  if (depth_ > 0) {
+    // Pop i frees the slot of push i + depth: only pops from pushes - depth on are asked for.
+    pop_time_.push_back(t);
+    const std::uint64_t oldest = pushes_ > static_cast<std::uint64_t>(depth_) ? pushes_ - depth_ : 0;
+    for (; pop_time_first_ < oldest && !pop_time_.empty(); ++pop_time_first_) pop_time_.pop_front();
+  }
   settle(&t);
   ++pops_;
   late_pops_.push_back(t);

@@ -75,7 +75,11 @@ class RayFifo : public sc_core::sc_module, public RayFifoIf, public Waiter {
   int depth_;
   std::deque<RayEntry> queue_;
   std::uint64_t pushes_ = 0, pops_ = 0;
-  std::vector<sc_core::sc_time> pop_time_;  // ring of the last `depth` pop times
+  // Times of the pops that may still free a slot for a later push (at most `depth`, and no
+  // more than the rays actually queued: a deep FIFO reserves nothing), the first being pop
+  // number pop_time_first_.
+  std::deque<sc_core::sc_time> pop_time_;
+  std::uint64_t pop_time_first_ = 0;
   std::uint64_t pushes_at_reset_ = 0, pops_at_reset_ = 0;
   std::deque<std::pair<sc_core::sc_time, std::uint64_t>> unsettled_;  // pushes (time, pushes up to it) not yet counted
   std::deque<sc_core::sc_time> late_pops_;  // times of pops done, later than the pushes counted so far

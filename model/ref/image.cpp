@@ -11,6 +11,7 @@
 #include <stb_image_write.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -57,12 +58,18 @@ std::string frame_name(int frame, const char* ext) {
   return buf;
 }
 
+std::string temporary_path(const std::string& path) {
+  static std::atomic<unsigned> next{0};
+  const std::filesystem::path p(path);
+  return (p.parent_path() / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + "." +
+                             std::to_string(next++)))
+      .string();
+}
+
 void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {
   namespace fs = std::filesystem;
   const fs::path target(path);
-  // Same directory (rename is atomic only within a file system), hidden, unique per process.
-  const fs::path tmp = target.parent_path() /
-                       ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
+  const fs::path tmp = temporary_path(path);
   try {
     write(tmp.string());
     fs::rename(tmp, target);
@@ -123,6 +130,7 @@ FrameImage read_exr_or_throw(const std::string& path) {
 }  // namespace
 
 FrameImage read_exr(const std::string& path) {
+  require_regular_file(path);  // a pipe would block the reader forever, a device never end
   try {
     return read_exr_or_throw(path);
   } catch (const InputError&) {

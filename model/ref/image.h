@@ -32,6 +32,9 @@ void write_png(const std::string& path, const FrameImage& img);
 // Write `path` through `write(tmp)`: the temporary is renamed to `path` only if write
 // returns normally; on an exception it is removed. Throws std::runtime_error on I/O failure.
 void write_atomically(const std::string& path, const std::function<void(const std::string& tmp)>& write);
+// A temporary name for `path`: hidden, in the same folder (a rename is atomic only within a
+// file system), unique per process and per call, so that no two outputs share one.
+std::string temporary_path(const std::string& path);
 
 std::string frame_name(int frame, const char* ext);  // frame_0007.exr
 

@@ -180,16 +180,19 @@ Mesh lathe(const std::vector<std::pair<double, double>>& profile, std::uint32_t 
 }
 
 Mesh generate_from_json(const JsonIn& g, std::uint64_t max_triangles) {
+  MeshBudget budget(max_triangles);
+  return generate_from_json(g, budget);
+}
+
+Mesh generate_from_json(const JsonIn& g, MeshBudget& budget) {
   const std::string kind = g.at("kind").string();
   auto count = [&](const char* key, long long lo, long long def) {
     return static_cast<std::uint32_t>(g.integer_or(key, def, lo, 1 << 24));
   };
   auto positive = [&](const char* key, double def) { return g.number_or(key, def, 1e-30, 1e30); };
   // The closed formulas of generate.h, in 64 bits (each factor is below 2^24).
-  auto affordable = [&](std::uint64_t triangles) {
-    if (triangles > max_triangles)
-      g.fail("this generator would make " + std::to_string(triangles) + " triangles, more than the " +
-             std::to_string(max_triangles) + " the scene may still have");
+  auto affordable = [&](std::uint64_t triangles, std::uint64_t vertices) {
+    budget.charge(g.file(), g.place(), "this generator", vertices, triangles);
   };
   using U = std::uint64_t;
   if (kind == "triangle_cloud") {
@@ -197,7 +200,7 @@ Mesh generate_from_json(const JsonIn& g, std::uint64_t max_triangles) {
     const double radius = positive("radius", 1), size = positive("size", 0.1);
     if (!(size < radius)) g.at("size").fail("size must be smaller than radius");
     const std::uint32_t n = count("count", 1, 1024);
-    affordable(n);
+    affordable(n, 3 * U(n));
     return triangle_cloud(n, radius, size, static_cast<std::uint64_t>(g.integer_or("seed", 1, 0, 1LL << 62)));
   }
   if (kind == "box") {
@@ -205,14 +208,14 @@ Mesh generate_from_json(const JsonIn& g, std::uint64_t max_triangles) {
     const Vec3d s = g.vec3_or("size", Vec3d(1));
     if (!(s.x > 0 && s.y > 0 && s.z > 0)) g.at("size").fail("box sizes must be positive");
     const std::uint32_t n = count("divisions", 1, 1);
-    affordable(12 * U(n) * n);
+    affordable(12 * U(n) * n, 6 * U(n + 1) * (n + 1));
     return box(s, n);
   }
   if (kind == "sphere") {
     g.only_keys({"kind", "radius", "segments", "rings"});
     const double r = positive("radius", 1);
     const std::uint32_t segments = count("segments", 3, 16), rings = count("rings", 2, 8);
-    affordable(2 * U(segments) * (rings - 1));
+    affordable(2 * U(segments) * (rings - 1), U(segments) * (rings - 1) + 2);
     return uv_sphere(r, segments, rings);
   }
   if (kind == "cylinder") {
@@ -220,21 +223,21 @@ Mesh generate_from_json(const JsonIn& g, std::uint64_t max_triangles) {
     const double r = positive("radius", 1), h = positive("height", 1);
     const std::uint32_t segments = count("segments", 3, 16);
     const bool caps = g.boolean_or("caps", true);
-    affordable((caps ? 4 : 2) * U(segments));
+    affordable((caps ? 4 : 2) * U(segments), 2 * U(segments) + (caps ? 2 : 0));
     return cylinder(r, h, segments, caps);
   }
   if (kind == "torus") {
     g.only_keys({"kind", "major", "minor", "segments", "sides"});
     const double major = positive("major", 1), minor = positive("minor", 0.25);
     const std::uint32_t segments = count("segments", 3, 32), sides = count("sides", 3, 12);
-    affordable(2 * U(segments) * sides);
+    affordable(2 * U(segments) * sides, U(segments) * sides);
     return torus(major, minor, segments, sides);
   }
   if (kind == "plane") {
     g.only_keys({"kind", "width", "depth", "nx", "nz"});
     const double w = positive("width", 1), d = positive("depth", 1);
     const std::uint32_t nx = count("nx", 1, 1), nz = count("nz", 1, 1);
-    affordable(2 * U(nx) * nz);
+    affordable(2 * U(nx) * nz, U(nx + 1) * (nz + 1));
     return plane(w, d, nx, nz);
   }
   if (kind == "lathe") {
@@ -248,7 +251,7 @@ Mesh generate_from_json(const JsonIn& g, std::uint64_t max_triangles) {
     if (profile.size() < 2) g.at("profile").fail("a lathe profile needs at least 2 points");
     const std::uint32_t segments = count("segments", 3, 16);
     const bool first = g.boolean_or("cap_first", false), last = g.boolean_or("cap_last", false);
-    affordable(U(segments) * (2 * (profile.size() - 1) + first + last));
+    affordable(U(segments) * (2 * (profile.size() - 1) + first + last), U(segments) * profile.size() + first + last);
     return lathe(profile, segments, first, last);
   }
   g.at("kind").fail("unknown generator \"" + kind +

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "scene/json_in.h"
+#include "scene/load.h"
 #include "scene/scene.h"
 
 #include <cstdint>
@@ -31,9 +32,11 @@ Mesh plane(double width, double depth, std::uint32_t nx, std::uint32_t nz);
 Mesh lathe(const std::vector<std::pair<double, double>>& profile, std::uint32_t segments, bool cap_first,
            bool cap_last);
 
-// {"generate": {"kind": ..., ...}} from a scene file. The triangle count is computed from the
-// parameters first: a generator that would make more than `max_triangles` is an InputError,
-// before anything is allocated (a few bytes of JSON can ask for billions of triangles).
+// {"generate": {"kind": ..., ...}} from a scene file. The mesh's size is computed from the
+// parameters first and charged to `budget` (scene/load.h), which refuses it before anything
+// is allocated: a few bytes of JSON can ask for billions of triangles.
+Mesh generate_from_json(const JsonIn& spec, MeshBudget& budget);
+// The same against a triangle limit alone.
 Mesh generate_from_json(const JsonIn& spec, std::uint64_t max_triangles = std::uint64_t{1} << 25);
 
 }  // namespace oprt

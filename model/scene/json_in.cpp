@@ -1,5 +1,8 @@
 #include "scene/json_in.h"
 
+#include "scene/numbers.h"
+
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -157,32 +160,37 @@ double JsonIn::number(double lo, double hi) const {
 }
 
 long long JsonIn::integer(long long lo, long long hi) const {
-  if (!j_->is_number_integer()) {
-    if (j_->is_number_float()) {
-      const double x = j_->get<double>();
-      if (std::isfinite(x) && x == std::floor(x) && std::fabs(x) < 9e15) {
-        const auto v = static_cast<long long>(x);
-        if (v < lo || v > hi)
-          fail("value " + std::to_string(v) + " is out of range [" + std::to_string(lo) + ", " +
-               std::to_string(hi) + "]");
-        return v;
-      }
-    }
-    fail("expected an integer, found " + (j_->is_number() ? describe(j_->get<double>()) : type_name()));
+  const auto out_of_range = [&](const std::string& value) {
+    fail("value " + value + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  };
+  if (j_->is_number_float()) {
+    const double x = j_->get<double>();
+    // A whole number written as a float (4096.0, 1e20): in range or out of it, like an integer.
+    if (!std::isfinite(x) || x != std::floor(x)) fail("expected an integer, found " + describe(x));
+    if (x < static_cast<double>(lo) || x > static_cast<double>(hi) || std::fabs(x) >= 9.2e18) out_of_range(describe(x));
+    return static_cast<long long>(x);
   }
-  long long v;
+  if (!j_->is_number_integer()) fail("expected an integer, found " + type_name());
   if (j_->is_number_unsigned()) {
     const auto u = j_->get<unsigned long long>();
-    if (u > static_cast<unsigned long long>(hi))
-      fail("value " + std::to_string(u) + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    v = static_cast<long long>(u);
-  } else {
-    v = j_->get<long long>();
+    if (u > static_cast<unsigned long long>(hi) || (lo > 0 && u < static_cast<unsigned long long>(lo)))
+      out_of_range(std::to_string(u));
+    return static_cast<long long>(u);
   }
-  if (v < lo || v > hi)
-    fail("value " + std::to_string(v) + " is out of range [" + std::to_string(lo) + ", " +
-         std::to_string(hi) + "]");
+  const long long v = j_->get<long long>();
+  if (v < lo || v > hi) out_of_range(std::to_string(v));
   return v;
+}
+
+std::uint64_t JsonIn::bytes(std::uint64_t hi) const {
+  if (j_->is_string()) return parse_bytes(j_->get<std::string>(), hi, {file_, place()});
+  if (!j_->is_number()) fail("expected a byte count (an integer, or a string such as \"64K\"), found " + type_name());
+  if (j_->is_number_unsigned()) {
+    const auto u = j_->get<unsigned long long>();
+    if (u > hi) parse_bytes(std::to_string(u), hi, {file_, place()});  // states the limit
+    return u;
+  }
+  return static_cast<std::uint64_t>(integer(0, static_cast<long long>(std::min<std::uint64_t>(hi, 1ULL << 62))));
 }
 
 bool JsonIn::boolean() const {
@@ -210,6 +218,10 @@ double JsonIn::number_or(const std::string& key, double def, double lo, double h
 long long JsonIn::integer_or(const std::string& key, long long def, long long lo, long long hi) const {
   auto v = find(key);
   return v ? v->integer(lo, hi) : def;
+}
+std::uint64_t JsonIn::bytes_or(const std::string& key, std::uint64_t def, std::uint64_t hi) const {
+  auto v = find(key);
+  return v ? v->bytes(hi) : def;
 }
 bool JsonIn::boolean_or(const std::string& key, bool def) const {
   auto v = find(key);

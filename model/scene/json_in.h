@@ -6,6 +6,7 @@
 #include "geom/vec.h"
 #include "scene/error.h"
 
+#include <cstdint>
 #include <initializer_list>
 #include <optional>
 #include <string>
@@ -43,6 +44,8 @@ class JsonIn {
   double number() const;  // finite
   double number(double lo, double hi) const;  // finite, in [lo, hi]
   long long integer(long long lo, long long hi) const;
+  // A byte count: an integer, or a string with a suffix ("64K", "1.5 GiB"; scene/numbers.h).
+  std::uint64_t bytes(std::uint64_t hi) const;
   bool boolean() const;
   std::string string() const;
   Vec3d vec3() const;
@@ -50,6 +53,7 @@ class JsonIn {
   // Optional members with a default.
   double number_or(const std::string& key, double def, double lo = -1e300, double hi = 1e300) const;
   long long integer_or(const std::string& key, long long def, long long lo, long long hi) const;
+  std::uint64_t bytes_or(const std::string& key, std::uint64_t def, std::uint64_t hi) const;
   bool boolean_or(const std::string& key, bool def) const;
   std::string string_or(const std::string& key, const std::string& def) const;
   Vec3d vec3_or(const std::string& key, const Vec3d& def) const;

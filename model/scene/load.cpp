@@ -2,6 +2,7 @@
 
 #include "scene/aff.h"
 #include "scene/error.h"
+#include "scene/numbers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,38 @@
 namespace oprt {
 
 SceneLimits scene_limits;
+
+void MeshBudget::check(const std::string& file, const std::string& place, const std::string& what,
+                       std::uint64_t vertices, std::uint64_t triangles) const {
+  if (triangles > triangles_left())
+    throw InputError(file, place,
+                     what + " would make " + std::to_string(triangles) + " triangles, more than the " +
+                         std::to_string(triangles_left()) + " the scene may still have (a scene may have " +
+                         std::to_string(max_triangles_) + ")");
+  const SceneLimits& l = scene_limits;
+  if (l.memory_limit == 0) return;
+  // Each factor is below 2^40 (counts below 2^25 plus a generator's below 2^50 are refused
+  // above): no product here wraps.
+  const std::uint64_t v = std::min<std::uint64_t>(vertices_ + vertices, std::uint64_t{1} << 40);
+  const std::uint64_t geometry = v * l.bytes_per_vertex + (triangles_ + triangles) * l.bytes_per_triangle;
+  if (l.memory_reserved + geometry > l.memory_limit)
+    throw InputError(file, place,
+                     what + " would make " + std::to_string(triangles) + " triangles and " + std::to_string(vertices) +
+                         " vertices: the run would need about " + byte_count_text(l.memory_reserved + geometry) +
+                         " (the scene's geometry " + byte_count_text(geometry) + ", at " +
+                         std::to_string(l.bytes_per_triangle) + " bytes a triangle and " +
+                         std::to_string(l.bytes_per_vertex) + " a vertex, with " + std::to_string(triangles_) +
+                         " triangles before it; the rest of the run " + byte_count_text(l.memory_reserved) +
+                         "), more than the " + byte_count_text(l.memory_limit) + " it may use (" +
+                         l.memory_limit_source + ")");
+}
+
+void MeshBudget::charge(const std::string& file, const std::string& place, const std::string& what,
+                        std::uint64_t vertices, std::uint64_t triangles) {
+  check(file, place, what, vertices, triangles);
+  vertices_ += vertices;
+  triangles_ += triangles;
+}
 
 namespace {
 constexpr double kMaxCoordinate = 1e18;
@@ -23,7 +56,14 @@ Scene load_by_extension(const std::string& path, const LoadOptions& options) {
   require_regular_file(path);
   if (ext == ".json") return load_oprt_json(path);
   if (ext == ".aff") return load_aff(path, options.aff);
-  if (ext == ".gltf" || ext == ".glb") return load_gltf(path);
+  if (ext == ".gltf" || ext == ".glb") {
+    // Its meshes are read from buffers, whose size bounds them; counted once loaded.
+    Scene s = load_gltf(path);
+    std::uint64_t vertices = 0;
+    for (const Object& o : s.objects) vertices += o.mesh.vertices.size();
+    MeshBudget().charge(path, "", "the scene", vertices, s.triangle_count());
+    return s;
+  }
   throw InputError(path, "", "unknown scene format \"" + ext + "\" (expected .json, .aff, .gltf or .glb)");
 }
 }  // namespace

@@ -13,11 +13,40 @@ namespace oprt {
 // What an oprt-scene/1 file may ask for, checked before memory is allocated: a few bytes of
 // JSON can ask generators for billions of triangles, or nest "parts" deep enough to
 // overflow the stack. Fuzz targets lower the triangle limit to stay within their memory.
+//
+// The memory a run may use is checked here too, when a renderer has set it (testbench/
+// memory_estimate.h): `memory_limit` bytes (0: none; `memory_limit_source` says where the
+// limit comes from), of which `memory_reserved` are the rest of the run's needs; each vertex
+// and triangle the scene makes costs the run `bytes_per_vertex` and `bytes_per_triangle`, in
+// every form it keeps them (the mesh, the engine's copy, the BVH, working lists).
 struct SceneLimits {
   std::uint64_t triangles = std::uint64_t{1} << 25;  // per scene: 33,554,432
   int parts_nesting = 32;
+  std::uint64_t memory_limit = 0, memory_reserved = 0, bytes_per_vertex = 0, bytes_per_triangle = 0;
+  std::string memory_limit_source;
 };
 extern SceneLimits scene_limits;
+
+// A scene's meshes counted against scene_limits as they are made: a loader asks before it
+// makes a mesh whose size it knows (a generator, a tessellated sphere) and counts every mesh
+// it has made (one read from a file is bounded by the file's size).
+class MeshBudget {
+ public:
+  MeshBudget() : max_triangles_(scene_limits.triangles) {}
+  explicit MeshBudget(std::uint64_t max_triangles) : max_triangles_(max_triangles) {}
+  // Throws InputError(file, place, "WHAT would make ...") if the scene cannot have `vertices`
+  // and `triangles` more: past the triangle limit, or past the run's memory.
+  void check(const std::string& file, const std::string& place, const std::string& what, std::uint64_t vertices,
+             std::uint64_t triangles) const;
+  // check(), then counts them.
+  void charge(const std::string& file, const std::string& place, const std::string& what, std::uint64_t vertices,
+              std::uint64_t triangles);
+  std::uint64_t triangles() const { return triangles_; }
+  std::uint64_t triangles_left() const { return max_triangles_ - triangles_; }
+
+ private:
+  std::uint64_t max_triangles_, vertices_ = 0, triangles_ = 0;
+};
 
 // How formats that need choices are read (today only BART .aff: its tessellation of spheres
 // and cones, and the size above which a group is split into several objects). The command

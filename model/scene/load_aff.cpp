@@ -570,7 +570,9 @@ class AffReader {
     return static_cast<std::uint32_t>(current_material_);
   }
   std::uint32_t add_material(const MaterialInfo& mi);
-  void emit(const Mesh& m);  // rigid geometry in the current node's frame
+  // Rigid geometry in the current node's frame, counted against the scene's limits.
+  void emit(const Cursor& c, const Stmt& s, const Mesh& m);
+  MeshBudget budget_;
 
   const AffOptions& opt_;
   std::vector<Node> nodes_;
@@ -645,7 +647,8 @@ std::uint32_t AffReader::add_material(const MaterialInfo& mi) {
   return i;
 }
 
-void AffReader::emit(const Mesh& m) {
+void AffReader::emit(const Cursor& c, const Stmt& s, const Mesh& m) {
+  budget_.charge(c.file(), "line " + std::to_string(s.line), "this statement", m.vertices.size(), m.triangles.size());
   const Node& n = nodes_[stack_.back()];
   rigid_[{n.context, material()}].append(m, n.to_context);
 }
@@ -878,7 +881,7 @@ void AffReader::polygon(Cursor& c, const Stmt& s, bool patch) {
   }
   if (patch) note("vertex normals ignored (flat shading)");
   for (std::uint32_t i = 1; i + 1 < n; ++i) m.triangles.push_back({0, i, i + 1});  // fan
-  emit(m);
+  emit(c, s, m);
 }
 
 void AffReader::textured(Cursor& c, const Stmt& s, bool patch) {
@@ -893,7 +896,7 @@ void AffReader::textured(Cursor& c, const Stmt& s, bool patch) {
   m.triangles.push_back({0, 1, 2});
   note("textures ignored: textured triangles and texture coordinates load as plain geometry");
   if (patch) note("vertex normals ignored (flat shading)");
-  emit(m);
+  emit(c, s, m);
 }
 
 void AffReader::mesh(Cursor& c, const Stmt& s) {
@@ -948,7 +951,7 @@ void AffReader::mesh(Cursor& c, const Stmt& s) {
       for (int k = 0; k < 3; ++k) index("texture coordinate", "texture coordinates", nt, i);
     m.triangles.push_back(t);
   }
-  emit(m);
+  emit(c, s, m);
 }
 
 void AffReader::animated_triangle(Cursor& c, const Stmt& s) {
@@ -984,12 +987,15 @@ void AffReader::sphere(Cursor& c, const Stmt& s) {
   const double r = c.number(s, "radius");
   if (r == 0) c.fail(s.line, "sphere radius must not be zero");
   // A negative radius means "inside visible"; shading here is two-sided anyway.
+  const std::uint64_t segments = opt_.sphere_segments, rings = opt_.sphere_rings;
+  budget_.check(c.file(), "line " + std::to_string(s.line), "this sphere", segments * (rings - 1) + 2,
+                2 * segments * (rings - 1));
   Mesh m = uv_sphere(std::fabs(r), opt_.sphere_segments, opt_.sphere_rings);
   for (Vec3d& v : m.vertices) v += centre;
   note("spheres tessellated: " + std::to_string(2 * opt_.sphere_segments * (opt_.sphere_rings - 1)) +
        " triangles each (" + std::to_string(opt_.sphere_segments) + " segments, " +
        std::to_string(opt_.sphere_rings) + " rings)");
-  emit(m);
+  emit(c, s, m);
 }
 
 void AffReader::cone(Cursor& c, const Stmt& s) {
@@ -1005,7 +1011,9 @@ void AffReader::cone(Cursor& c, const Stmt& s) {
   if (rb == 0 && ra == 0) c.fail(s.line, "cone has both radii zero");
   if (dot3(apex - base, apex - base) == 0) c.fail(s.line, "cone base and apex coincide");
   note("cones tessellated: open side surface of " + std::to_string(opt_.cone_segments) + " segments (no caps)");
-  emit(cone_mesh(base, rb, apex, ra, opt_.cone_segments));
+  budget_.check(c.file(), "line " + std::to_string(s.line), "this cone", 2 * std::uint64_t{opt_.cone_segments},
+                2 * std::uint64_t{opt_.cone_segments});
+  emit(c, s, cone_mesh(base, rb, apex, ra, opt_.cone_segments));
 }
 
 void AffReader::include(Cursor& c, const Stmt& s) {

@@ -68,8 +68,8 @@ MotionPtr read_animation(const JsonIn& a) {
   return std::make_shared<KeyframeMotion>(std::move(keys));
 }
 
-// `budget`: the triangles the scene may still have (SceneLimits); `depth`: parts nesting.
-Mesh read_mesh(const JsonIn& mj, const std::string& scene_file, std::uint64_t budget, int depth = 0) {
+// `budget`: what the scene may still have (SceneLimits); `depth`: parts nesting.
+Mesh read_mesh(const JsonIn& mj, const std::string& scene_file, MeshBudget& budget, int depth = 0) {
   if (mj.has("obj")) {
     mj.only_keys({"obj", "transform"});
     const JsonIn o = mj.at("obj");
@@ -81,9 +81,7 @@ Mesh read_mesh(const JsonIn& mj, const std::string& scene_file, std::uint64_t bu
       o.fail("OBJ file " + path + " " + e.problem());
     }
     Mesh m = load_obj(path);
-    if (m.triangles.size() > budget)
-      o.fail("the OBJ file has " + std::to_string(m.triangles.size()) + " triangles, more than the " +
-             std::to_string(budget) + " the scene may still have");
+    budget.charge(o.file(), o.place(), "the OBJ file " + path, m.vertices.size(), m.triangles.size());
     return m;
   }
   if (mj.has("generate")) {
@@ -98,7 +96,7 @@ Mesh read_mesh(const JsonIn& mj, const std::string& scene_file, std::uint64_t bu
     for (const JsonIn& part : mj.at("parts").items()) {
       const Affine<double> place =
           part.has("transform") ? read_transform(part.at("transform")) : Affine<double>::identity();
-      m.append(read_mesh(part, scene_file, budget - m.triangles.size(), depth + 1), place);
+      m.append(read_mesh(part, scene_file, budget, depth + 1), place);
     }
     return m;
   }
@@ -114,8 +112,7 @@ Mesh read_mesh(const JsonIn& mj, const std::string& scene_file, std::uint64_t bu
         tri[k] = static_cast<std::uint32_t>(idx[k].integer(0, static_cast<long long>(m.vertices.size()) - 1));
       m.triangles.push_back(tri);
     }
-    if (m.triangles.size() > budget)
-      mj.at("triangles").fail("more triangles than the " + std::to_string(budget) + " the scene may still have");
+    budget.charge(mj.file(), mj.at("triangles").place(), "this mesh", m.vertices.size(), m.triangles.size());
     return m;
   }
   mj.fail("a mesh needs \"obj\", \"vertices\" and \"triangles\", \"generate\", or \"parts\"");
@@ -193,7 +190,7 @@ Scene load_oprt_json(const std::string& path) {
   }
   const std::uint32_t default_material = static_cast<std::uint32_t>(s.materials.size());
   bool default_used = false;
-  std::uint64_t triangles = 0;  // so far, against scene_limits.triangles
+  MeshBudget budget;
 
   for (const JsonIn& oj : root.at("objects").items()) {
     oj.only_keys({"name", "material", "mesh", "transform", "animation"});
@@ -208,8 +205,7 @@ Scene load_oprt_json(const std::string& path) {
       default_used = true;
     }
     const JsonIn mj = oj.at("mesh");
-    o.mesh = read_mesh(mj, path, scene_limits.triangles - triangles);
-    triangles += o.mesh.triangles.size();
+    o.mesh = read_mesh(mj, path, budget);
     if (auto t = mj.find("transform")) {  // placement of the mesh in its own local frame
       Mesh placed;
       placed.append(o.mesh, read_transform(*t));

@@ -2,6 +2,7 @@
 
 #include "ref/parallel.h"
 #include "ref/stop.h"
+#include "scene/error.h"
 
 #include <stdexcept>
 #ifdef __GLIBC__
@@ -128,8 +129,10 @@ class Recorder {
     total += entered_;
     const std::uint64_t cycles = spheres + nodes + entered_.busy() + entered_.stall;
     if (cycles > kNone || bytes_ > kNone)
-      throw std::runtime_error("one unit's work on one ray exceeds 2^32 cycles or bytes (" + std::to_string(cycles) +
-                               " cycles): split the objects into more spheres (--subdivide) or use --accel bvh");
+      throw InputError(arch_.source, "/costs",
+                       "one unit's work on one ray would be " + std::to_string(cycles) + " cycles and " +
+                           std::to_string(bytes_) + " bytes read, more than the 2^32 - 1 a ray's record holds: lower "
+                           "the costs, split the objects into more spheres (--subdivide) or use --accel bvh");
     UnitRayWork w;
     w.ray = static_cast<std::uint32_t>(c_.rays.size() - 1);
     w.cycles = static_cast<std::uint32_t>(cycles);

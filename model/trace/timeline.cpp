@@ -1,5 +1,7 @@
 #include "trace/timeline.h"
 
+#include "ref/image.h"
+
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
@@ -24,8 +26,7 @@ std::string json_escape(const std::string& s) {
 }  // namespace
 
 TimelineWriter::TimelineWriter(std::string path) : path_(std::move(path)), buf_(1 << 20) {
-  const std::filesystem::path p(path_);
-  tmp_ = (p.parent_path() / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()))).string();
+  tmp_ = temporary_path(path_);
   f_ = std::fopen(tmp_.c_str(), "wb");
   if (!f_) throw std::runtime_error("cannot write " + tmp_ + ": " + std::strerror(errno));
   std::setvbuf(f_, nullptr, _IONBF, 0);

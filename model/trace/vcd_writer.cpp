@@ -1,5 +1,6 @@
 #include "trace/vcd_writer.h"
 
+#include "ref/image.h"
 #include "trace/wave_format.h"
 
 #include <algorithm>
@@ -238,8 +239,7 @@ class VcdWriter::Output {
 };
 
 VcdWriter::VcdWriter(std::string path) : path_(std::move(path)) {
-  const std::filesystem::path p(path_);
-  tmp_ = (p.parent_path() / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid()))).string();
+  tmp_ = temporary_path(path_);
 }
 
 VcdWriter::~VcdWriter() {

@@ -496,10 +496,11 @@ TEST_CASE("cli: a render killed outright never leaves a truncated file under a f
       CHECK(oprt::read_exr(e.path().string()).width == 32);
     }
   }
-  std::ifstream in(d / "out" / "stats.json");
-  const auto stats = nlohmann::json::parse(in);  // whole: it parses
-  CHECK(stats["frames"].size() >= 2);
-  CHECK(frames.size() >= stats["frames"].size());  // stats are written after a frame's images
+  CHECK(frames.size() >= 2);
+  // The statistics are written when a run ends or is stopped: a killed run has none under
+  // their final names (docs/reliability.md), only its hidden spool.
+  CHECK_FALSE(fs::exists(d / "out" / "stats.json"));
+  CHECK_FALSE(fs::exists(d / "out" / "stats.csv"));
 }
 
 TEST_CASE("cli: a tolerated BART quirk warns on stderr, a bad glTF uri exits 2 with a short message",

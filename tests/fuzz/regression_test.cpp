@@ -3,7 +3,9 @@
 // target loads it. Beside each input, NAME.expect holds a piece of the error message it
 // must now produce (or "ok": it must load and render).
 #include "fuzz_scene.h"
+#include "fuzz_tech.h"
 #include "arch/arch.h"
+#include "cost/tech.h"
 #include "scene/aff.h"
 #include "scene/error.h"
 #include "scene/load.h"
@@ -68,6 +70,10 @@ TEST_CASE("fuzz regressions: glTF", "[fuzz]") {
 
 TEST_CASE("fuzz regressions: architecture file", "[fuzz]") {
   CHECK(replay("arch", [](const std::string& p) { (void)to_json(load_arch(p)).dump(); }) >= 1);
+}
+
+TEST_CASE("fuzz regressions: technology table", "[fuzz]") {
+  CHECK(replay("tech", [](const std::string& p) { fuzz::exercise(load_tech(p)); }) >= 4);
 }
 
 TEST_CASE("fuzz regressions: a pipe given as a scene is refused, not read", "[fuzz]") {

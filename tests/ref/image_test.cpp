@@ -53,6 +53,14 @@ TEST_CASE("image: frame names", "[image]") {
   CHECK(frame_name(12345, "png") == "frame_12345.png");
 }
 
+TEST_CASE("image: every output gets a temporary name of its own, hidden, beside it", "[image]") {
+  // Two outputs asked for one path (issue 23, finding 2) must not share a temporary either.
+  const std::string a = temporary_path("/x/out/trace.vcd"), b = temporary_path("/x/out/trace.vcd");
+  CHECK(a != b);
+  CHECK(std::filesystem::path(a).parent_path() == "/x/out");
+  CHECK(std::filesystem::path(a).filename().string().rfind(".trace.vcd.tmp", 0) == 0);
+}
+
 namespace {
 // A 2x2 reference: grey, four pixels, the third a miss.
 FrameImage compare_reference() {

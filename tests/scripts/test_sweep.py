@@ -48,6 +48,8 @@ sweep = load_sweep_module()
 FAKE_OPRT = r'''#!/usr/bin/python3
 import json, os, sys, time
 args = sys.argv[1:]
+if "--check" in args:  # scripts/sweep asks before it runs anything: every point would run
+    sys.exit(0)
 opt = lambda name, default=None: args[args.index(name) + 1] if name in args else default
 out, ius = opt("--out"), int(opt("--ius", "32"))
 with open(os.environ["FAKE_OPRT_RUNS"], "a") as f:
@@ -198,9 +200,7 @@ class TestGridExpansion(SweepTestCase):
 
 class TestBadSpec(SweepTestCase):
     CASES = [
-        ({"grid": {"ius": [1, 0]}}, "spec.json: /grid/ius/1: ius: value 0 is out of range [1, 65536]"),
         ({"grid": {"iu": [1]}}, "spec.json: /grid/iu: unknown parameter"),
-        ({"grid": {"ius": ["8"]}}, 'spec.json: /grid/ius/0: ius: expected an integer, found "8"'),
         ({"grid": {"ius": [True]}}, "spec.json: /grid/ius/0: ius: expected an integer, found true"),
         ({"grid": {"ius": 8}}, "spec.json: /grid/ius: expected a list of values, found 8"),
         ({"grid": {}}, "spec.json: /grid: empty grid"),
@@ -209,12 +209,10 @@ class TestBadSpec(SweepTestCase):
         ({"grid": {"balance": ["best"]}}, 'spec.json: /grid/balance/0: balance: unknown value "best"'),
         ({"grid": {"ius": [1]}, "colour": "red"}, "spec.json: /colour: unknown key"),
         ({"scenes": ["nowhere.json"], "grid": {"ius": [1]}}, "spec.json: /scenes/0: no scene file"),
-        ({"frames": "60", "grid": {"ius": [1]}}, "spec.json: /frames: frames 60: "),
         ({"grid": {"bus.bytes_per_cycle": [1, 2]}}, "spec.json: /grid/bus.bytes_per_cycle: bus.bytes_per_cycle needs bus.model"),
         ({"zip": [{"ius": [1, 2], "subdivide": [1]}]}, "spec.json: /zip/0: lists of unequal length [1, 2]"),
         ({"grid": {"ius": [1]}, "zip": [{"ius": [2]}]}, "spec.json: /zip/0/ius: parameter already varied at /grid/ius"),
         ({"grid": {"ius": [2]}, "points": [{"ius": 2}]}, "spec.json: /points/0: the same point twice (also from /grid)"),
-        ({"points": [{"quantum": "5 parsec"}]}, 'spec.json: /points/0/quantum: quantum: expected a positive time'),
         ({"arch": {"bus": {"modle": "shared"}}, "grid": {"ius": [1]}}, "spec.json: /arch/bus/modle: unknown architecture key"),
         ({"format": "oprt-sweep/2", "grid": {"ius": [1]}}, 'spec.json: /format: expected "oprt-sweep/1"'),
     ]
@@ -229,6 +227,58 @@ class TestBadSpec(SweepTestCase):
                 self.assertEqual(r.stderr.count("\n"), 1, "one message")
                 self.assertEqual(self.runs(), [], "nothing ran")
                 self.assertFalse(os.path.exists(self.out), "nothing written")
+
+    # Numbers are oprt's to judge (`oprt render --check`, scene/numbers.h): the real binary.
+    NUMBER_CASES = [
+        ({"grid": {"ius": [1, 0]}}, "spec.json: /grid/ius/1: ius: value 0 is out of range [1, 65536]"),
+        ({"grid": {"ius": ["8", "x"]}}, "spec.json: /grid/ius/1: ius: expected a whole number in [1, 65536]"),
+        ({"frames": "60", "grid": {"ius": [1]}}, "spec.json: /frames: frames: scene has frames 0:59 only"),
+        ({"points": [{"quantum": "5 parsec"}]}, 'spec.json: /points/0/quantum: quantum: unknown time unit "parsec"'),
+        ({"grid": {"memory.sram_bytes": ["1T", "2T"]}},
+         "spec.json: /grid/memory.sram_bytes/1: memory.sram_bytes: value 2T (2199023255552 bytes) is more than the "
+         "limit: at most 1 TiB"),
+        ({"zip": [{"ius": [1, 2], "ray_fifo_depth": [4, 16777217]}]},
+         "spec.json: /zip/0/ray_fifo_depth/1: ray_fifo_depth: value 16777217 is out of range [0, 16777216]"),
+    ]
+
+    def test_every_bad_number_fails_with_its_place_and_oprts_words_before_anything_runs(self):
+        oprt = os.environ.get("OPRT_BINARY")
+        if not oprt:
+            self.skipTest("OPRT_BINARY is not set")
+        for spec, message in self.NUMBER_CASES:
+            with self.subTest(spec=spec):
+                spec_file = self.write_spec({"scenes": [ROOM], "resolution": "8x8", **spec})
+                r = self.sweep(spec_file, oprt=oprt)
+                self.assertEqual(r.returncode, 2, r.stderr)
+                self.assertIn(message, r.stderr)
+                self.assertEqual(r.stderr.count("\n"), 1, "one message")
+                self.assertFalse(os.path.exists(self.out), "nothing written")
+
+    def test_numbers_as_users_write_them_are_taken(self):
+        oprt = os.environ.get("OPRT_BINARY")
+        if not oprt:
+            self.skipTest("OPRT_BINARY is not set")
+        spec_file = self.write_spec({"scenes": [ROOM], "resolution": "8x8", "frames": 0,
+                                     "points": [{"memory.sram_bytes": "1G", "quantum": "2.5 us", "level": "lt"},
+                                                {"memory.sram_bytes": 4294967296}]})
+        r = self.sweep(spec_file, oprt=oprt)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual([row["memory.sram_bytes"] for row in self.read_csv("aggregate.csv")],
+                         [str(1 << 30), str(1 << 32)])
+
+    def test_outputs_that_cannot_be_written_are_refused_before_anything_runs(self):
+        spec_file = self.write_spec({"scenes": [ROOM], "grid": {"ius": [1]}})
+        with open(self.out, "w") as f:
+            f.write("a file where the output folder goes")
+        r = self.sweep(spec_file)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn(f"--out: {self.out}: is a file, not a folder", r.stderr)
+        os.remove(self.out)
+        os.makedirs(os.path.join(self.out, "summary.md"))
+        r = self.sweep(spec_file)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("summary.md in it is a folder, not a file", r.stderr)
+        self.assertEqual(self.runs(), [], "nothing ran")
 
     def test_malformed_json_names_line_and_column(self):
         path = os.path.join(self.dir, "broken.json")

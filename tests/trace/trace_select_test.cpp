@@ -84,5 +84,5 @@ TEST_CASE("trace select: bad values name the option, the value and the problem",
   fails([&] { parse_trace_signals(""); }, "--trace-signals", "empty signal group");
   fails([&] { parse_trace_frames("3:2", {0, 5}); }, "--trace-frames", "first frame is after the last");
   fails([&] { parse_trace_frames("4:9", {0, 5}); }, "--trace-frames", "renders frames 0:5 only");
-  fails([&] { parse_trace_frames("a", {0, 5}); }, "--trace-frames", "expected N or A:B");
+  fails([&] { parse_trace_frames("a", {0, 5}); }, "--trace-frames", "expected a whole number in [0, 2147483647]");
 }
