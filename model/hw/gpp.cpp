@@ -87,8 +87,8 @@ void Gpp<T>::write(tlm::tlm_generic_payload& p) {
 // The FIFOs the next write goes to: every one, or a routed ray's wave's.
 template <typename T>
 template <typename F>
-void Gpp<T>::for_next_fifos(F&& f) const {
-  const auto wave = work_->wave(work_->peek_ray());
+void Gpp<T>::for_wave_fifos(std::uint32_t id, F&& f) const {
+  const auto wave = work_->wave(id);
   if (!wave.first) {
     for (int i = 0; i < fifos.size(); ++i) f(i);
     return;
@@ -100,7 +100,7 @@ template <typename T>
 int Gpp<T>::full_fifo() const {
   if (arch_.fifo_depth == 0) return -1;
   int full = -1;
-  for_next_fifos([&](int i) {
+  for_wave_fifos(work_->peek_ray(), [&](int i) {
     if (full < 0 && !fifos[i]->has_space()) full = i;
   });
   return full;
@@ -132,10 +132,10 @@ void Gpp<T>::wait_for_space_or_answers(bool want_space, const sc_time* deadline)
 // When every ray FIFO has room for the next write (call only when none is full): under
 // temporal decoupling the pop that made room may lie ahead of the GPP's local time.
 template <typename T>
-sc_time Gpp<T>::room_time() const {
+sc_time Gpp<T>::room_time(std::uint32_t id) const {
   sc_time t = clock_.now();
   if (arch_.fifo_depth == 0) return t;
-  for_next_fifos([&](int i) { t = std::max(t, fifos[i]->space_time()); });
+  for_wave_fifos(id, [&](int i) { t = std::max(t, fifos[i]->space_time()); });
   return t;
 }
 
@@ -149,7 +149,7 @@ void Gpp<T>::trace_in_flight() {
 // wave's FIFOs in one transfer with a unit mask, or one transfer per unit.
 template <typename T>
 void Gpp<T>::issue(std::uint32_t id) {
-  clock_.advance_to(room_time());  // as at `at`: room first, then the ray is generated
+  clock_.advance_to(room_time(id));  // as at `at`: room first, then the ray is generated
   const auto wave = work_->wave(id);
   const std::size_t n = wave.size(units_);
   if (wave.initial) {
@@ -347,7 +347,7 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     }
     const bool has_ray = work_->has_ray();
     const bool room = has_ray && full_fifo() < 0;
-    const sc_time ready = room ? room_time() : never;
+    const sc_time ready = room ? room_time(work_->peek_ray()) : never;
     const auto next = work_->next(clock_.now(), ready, never, retired_ == issued_);
     if (next == GppWork<T, sc_time>::Next::done) break;
     if (next == GppWork<T, sc_time>::Next::retire) {

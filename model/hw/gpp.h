@@ -82,11 +82,12 @@ class Gpp : public sc_core::sc_module, public Waiter {
   void render_frame(const FrameCommand& cmd);
   void load_memories();
   void write(tlm::tlm_generic_payload& p);
+  // f(i) for each FIFO that ray `id`'s next wave is written to (every one when broadcast).
   template <typename F>
-  void for_next_fifos(F&& f) const;
+  void for_wave_fifos(std::uint32_t id, F&& f) const;
   int full_fifo() const;  // index of a full ray FIFO the next write goes to, or -1
   void wait_for_space_or_answers(bool want_space, const sc_core::sc_time* deadline);
-  sc_core::sc_time room_time() const;
+  sc_core::sc_time room_time(std::uint32_t id) const;  // when ray `id`'s next wave has room
   void issue(std::uint32_t ray);
   void retire(std::uint32_t ray, const FrameCommand& cmd);
   void finish_pixel(std::uint32_t pixel, FrameImage& image) const;
