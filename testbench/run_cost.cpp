@@ -34,8 +34,8 @@ RunCost::RunCost(const std::string& tech_file, const Arch& arch, std::size_t uni
   design_.units.resize(units);
   if (arch.routed()) {
     const FpUnits r = hw::router_units(arch);
-    design_.router_adders = r.adders;
-    design_.router_multipliers = r.multipliers;
+    design_.router_adders = r.adders * arch.route.lanes;
+    design_.router_multipliers = r.multipliers * arch.route.lanes;
     design_.router_register_bytes = units * 6 * (dbl ? 8 : 4);  // a box per unit
   }
   design_.ray_bytes = ray_bytes(dbl);

@@ -108,7 +108,8 @@ struct Arch {
     std::string policy = "broadcast";
     std::string transfer = "mask";  // a routed ray on the bus: one transfer with a unit mask, or "per_unit"
     int wave = 1;                   // ordered: units per wave
-    IuConfig::Unit units;           // the router's box-test unit: adders, multipliers (0: II 1)
+    IuConfig::Unit units;           // each of the router's box-test units: adders, multipliers (0: II 1)
+    int lanes = 8;                  // box-test units side by side, each testing its share of the bounds
   } route;
   Kernel kernel = Kernel::moller;
   std::string precision = "float";

@@ -27,7 +27,9 @@ GppPlan<T>::GppPlan(const Scene& scene, const SceneGeometry<T>& geometry, const 
 template <typename T>
 std::uint64_t GppPlan<T>::route_cycles(std::size_t entered) const {
   if (!routed()) return 0;
-  std::uint64_t c = assignment_.size() * static_cast<std::uint64_t>(router_.ii) + static_cast<std::uint64_t>(router_.length());
+  const std::uint64_t lanes = static_cast<std::uint64_t>(arch_.route.lanes);
+  const std::uint64_t per_lane = (assignment_.size() + lanes - 1) / lanes;
+  std::uint64_t c = per_lane * static_cast<std::uint64_t>(router_.ii) + static_cast<std::uint64_t>(router_.length());
   if (route_.route == Route::ordered && entered > 1) {
     std::uint64_t log = 0;
     while ((std::uint64_t{1} << log) < entered) ++log;

@@ -69,9 +69,10 @@ class GppPlan {
   // a timeline shows each phase. Throws Interrupted on SIGINT / SIGTERM.
   void trace(FunctionalFrame<T>& out, const FrameCommand& cmd, bool traced) const;
 
-  // Routing (ref/route.h): the GPP's router, a box-test unit beside it holding the units'
-  // bounds (refitted in configure()), tests a ray against every unit's bound (one test
-  // issued every II cycles, the last result L cycles after it) and, for `ordered`, sorts the
+  // Routing (ref/route.h): the GPP's router, `lanes` box-test units beside it holding the
+  // units' bounds (refitted in configure()), tests a ray against every unit's bound (each
+  // lane takes ceil(units / lanes) of them, one issued every II cycles, the last result L
+  // cycles after it) and, for `ordered`, sorts the
   // n units whose bound the ray entered by entry distance (n ceil(log2 n) comparisons, one
   // per cycle; the skipped ones among them), before the ray's first wave is written.
   bool routed() const { return arch_.routed(); }
