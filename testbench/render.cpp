@@ -176,7 +176,7 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared&
                 {"resolution", {job.width, job.height}},
                 {"arch", to_json(job.arch)},
                 {"threads", thread_count()}};
-  job.cost = std::make_shared<RunCost>(o.tech, job.arch, units);
+  job.cost = std::make_shared<RunCost>(o.tech, job.arch, units, spheres.size());
   job.header.update(job.cost->header());
   if (job.arch.iu.model == IuModel::pipelined) {  // each unit's schedule: its II and latency
     const hw::PipelineSchedules p = hw::pipeline_schedules(job.arch);

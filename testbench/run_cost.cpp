@@ -22,7 +22,7 @@ StoreBytes store_bytes() {
 constexpr std::uint64_t kStackEntryBytes = 4;
 }  // namespace
 
-RunCost::RunCost(const std::string& tech_file, const Arch& arch, std::size_t units) : arch_(arch) {
+RunCost::RunCost(const std::string& tech_file, const Arch& arch, std::size_t units, std::size_t spheres) : arch_(arch) {
   if (tech_file.empty()) {
     tech_ = tech_from_json(nlohmann::json::parse(kDefaultTech), kDefaultTechFile);
     source_ = kDefaultTechFile;
@@ -36,7 +36,7 @@ RunCost::RunCost(const std::string& tech_file, const Arch& arch, std::size_t uni
     const FpUnits r = hw::router_units(arch);
     design_.router_adders = r.adders * arch.route.lanes;
     design_.router_multipliers = r.multipliers * arch.route.lanes;
-    design_.router_register_bytes = units * 6 * (dbl ? 8 : 4);  // a box per unit
+    design_.router_register_bytes = (arch.route.bound == "sphere" ? spheres : units) * 6 * (dbl ? 8 : 4);  // a box each
   }
   design_.ray_bytes = ray_bytes(dbl);
   design_.double_precision = dbl;
@@ -77,7 +77,7 @@ Cost RunCost::frame(const FrameStats& fs) {
   FrameActivity act;
   act.units.resize(fs.units.size());
   act.bus_bytes = fs.bus_bytes;
-  if (arch_.routed()) act.router_tests = (fs.rays[0] + fs.rays[1]) * fs.units.size();
+  if (arch_.routed()) act.router_tests = (fs.rays[0] + fs.rays[1]) * fs.route.bounds;
   act.frame_time_s = fs.frame_time_s;
   for (std::size_t u = 0; u < fs.units.size() && u < design_.units.size(); ++u) {
     const UnitFrameStats& s = fs.units[u];

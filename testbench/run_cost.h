@@ -19,7 +19,7 @@ namespace oprt {
 class RunCost {
  public:
   // `tech_file` empty: the built-in 65 nm table.
-  RunCost(const std::string& tech_file, const Arch& arch, std::size_t units);
+  RunCost(const std::string& tech_file, const Arch& arch, std::size_t units, std::size_t spheres);
 
   // The frame's energy; also grows the design's sizes to the frame's.
   Cost frame(const FrameStats& fs);

@@ -108,18 +108,19 @@ void read_balance(const JsonIn& j, Arch& a) {
   if (auto v = j.find("locality")) a.locality = v->number(0, 1);
 }
 
-// "route": a policy's name, or {"policy", "transfer", "wave", "lanes", "adders", "multipliers"}.
+// "route": a policy's name, or {"policy", "transfer", "wave", "lanes", "bound", "adders", "multipliers"}.
 void read_route(const JsonIn& j, Arch& a) {
   const std::initializer_list<const char*> policies = {"broadcast", "multicast", "ordered"};
   if (!j.is_object()) {
     a.route.policy = one_of(j, policies);
     return;
   }
-  j.only_keys({"policy", "transfer", "wave", "adders", "multipliers"});
+  j.only_keys({"policy", "transfer", "wave", "lanes", "bound", "adders", "multipliers"});
   if (auto v = j.find("policy")) a.route.policy = one_of(*v, policies);
   if (auto v = j.find("transfer")) a.route.transfer = one_of(*v, {"mask", "per_unit"});
   a.route.wave = static_cast<int>(j.integer_or("wave", a.route.wave, 1, 65536));
   a.route.lanes = static_cast<int>(j.integer_or("lanes", a.route.lanes, 1, 65536));
+  if (auto v = j.find("bound")) a.route.bound = one_of(*v, {"unit", "sphere"});
   a.route.units.adders = static_cast<int>(j.integer_or("adders", a.route.units.adders, 0, 1024));
   a.route.units.multipliers = static_cast<int>(j.integer_or("multipliers", a.route.units.multipliers, 0, 1024));
 }
@@ -280,7 +281,7 @@ nlohmann::json without_locality(const Arch& a) {
           {"split", a.split},
           {"accel", a.accel},
           {"top", a.top},
-          {"route", {{"policy", a.route.policy}, {"transfer", a.route.transfer}, {"wave", a.route.wave}, {"lanes", a.route.lanes},
+          {"route", {{"policy", a.route.policy}, {"transfer", a.route.transfer}, {"wave", a.route.wave}, {"lanes", a.route.lanes}, {"bound", a.route.bound},
                      {"adders", a.route.units.adders}, {"multipliers", a.route.units.multipliers}}},
           {"kernel", to_string(a.kernel)},
           {"precision", a.precision},

@@ -110,6 +110,7 @@ struct Arch {
     int wave = 1;                   // ordered: units per wave
     IuConfig::Unit units;           // each of the router's box-test units: adders, multipliers (0: II 1)
     int lanes = 8;                  // box-test units side by side, each testing its share of the bounds
+    std::string bound = "unit";     // what the router tests: a box per unit, or per visible sphere ("sphere")
   } route;
   Kernel kernel = Kernel::moller;
   std::string precision = "float";

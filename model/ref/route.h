@@ -10,7 +10,10 @@
 //    stops after the wave that found an occluder.
 // A unit's bound is the box of its spheres' world bounds for the frame (ref/top_tree.h:
 // world_bounds, which holds every point a kernel may report in a sphere), refitted by the
-// GPP every frame from the new matrices as the units' trees are, and rounded outward to T.
+// GPP every frame from the new matrices as the units' trees are, and rounded outward to T;
+// or, with per-sphere bounds, those boxes themselves (a ray enters the unit where it first
+// enters one of them): more tests per ray, but two distant spheres of one unit no longer
+// make it receive every ray that crosses the space between them.
 // The image is the broadcast's, bit for bit: a unit whose bound the ray does not enter can
 // report no hit on it; a unit entered strictly beyond the closest hit so far can report only
 // a farther one (the argument of the tree over a unit's spheres, ref/top_traverse.h); and the
@@ -33,17 +36,30 @@ template <typename T>
 struct RouteTable {
   Route route = Route::broadcast;
   std::uint32_t wave = 1;       // ordered: units per wave
+  bool per_sphere = false;      // a box per visible sphere rather than one per unit
   std::vector<Box<T>> bound;    // per unit: world space, rounded outward; empty: nothing visible
+  std::vector<std::uint32_t> first;  // per_sphere: unit u's boxes are boxes[first[u] .. first[u + 1])
+  std::vector<Box<T>> boxes;
+
+  // Boxes the router tests a ray against.
+  std::size_t tested() const { return per_sphere ? boxes.size() : bound.size(); }
 
   bool routed() const { return route != Route::broadcast; }
   // The frame's bounds: per unit the union of its visible spheres' world bounds.
   void refit(const FrameSetup<T>& f, const SceneGeometry<T>& g, const std::vector<std::vector<std::uint32_t>>& units) {
     bound.assign(units.size(), Box<T>{});
+    first.assign(per_sphere ? units.size() + 1 : 0, 0);
+    boxes.clear();
     for (std::size_t u = 0; u < units.size(); ++u) {
       Box<double> b;
       for (std::uint32_t s : units[u])
-        if (f.visible[s]) b.extend(world_bounds(f, g, s));
+        if (f.visible[s]) {
+          const Box<double> w = world_bounds(f, g, s);
+          b.extend(w);
+          if (per_sphere && !w.empty()) boxes.push_back(round_out<T>(w, 0));
+        }
       if (!b.empty()) bound[u] = round_out<T>(b, 0);
+      if (per_sphere) first[u + 1] = static_cast<std::uint32_t>(boxes.size());
     }
   }
   // The units whose bound the ray enters, with their entry distances: in unit order
@@ -56,7 +72,10 @@ struct RouteTable {
     out.clear();
     const BoxRay<T> br = box_ray(ray);
     for (std::uint32_t u = 0; u < bound.size(); ++u) {
-      const T t = box_entry(br, bound[u], ray.tmax);
+      T t = kInf<T>;
+      if (!per_sphere) t = box_entry(br, bound[u], ray.tmax);
+      else
+        for (std::uint32_t i = first[u]; i < first[u + 1]; ++i) t = std::min(t, box_entry(br, boxes[i], ray.tmax));
       if (t != kInf<T>) out.push_back({t, u});
     }
     if (route == Route::ordered)
@@ -65,7 +84,13 @@ struct RouteTable {
     return out.size();
   }
   // Whether the ray still has to visit unit u, with the closest hit so far at `limit`.
-  bool worth(const Ray<T>& ray, std::uint32_t u, T limit) const { return hit_box(box_ray(ray), bound[u], limit); }
+  bool worth(const Ray<T>& ray, std::uint32_t u, T limit) const {
+    const BoxRay<T> br = box_ray(ray);
+    if (!per_sphere) return hit_box(br, bound[u], limit);
+    for (std::uint32_t i = first[u]; i < first[u + 1]; ++i)
+      if (hit_box(br, boxes[i], limit)) return true;
+    return false;
+  }
 };
 
 }  // namespace oprt

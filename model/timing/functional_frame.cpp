@@ -201,6 +201,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
   const FrameTraceInputs<T> in{g, units, camera, shader, arch.memory.model == MemoryModel::latency, route};
   const bool routed = route && route->routed();
   out.routed = routed;
+  out.route_bounds = routed ? static_cast<std::uint32_t>(route->tested()) : 0;
   std::vector<Chunk<T>> chunks(chunk_count(pixels, kPixelsPerChunk));
   out.detail.resize(detail ? chunks.size() : 0);
   for (std::size_t c = 0; c < out.detail.size(); ++c) {

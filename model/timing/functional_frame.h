@@ -100,6 +100,7 @@ struct FunctionalFrame {
   // (ray, unit) pairs `ordered` spared, in all and per ray.
   bool routed = false;
   std::vector<std::uint32_t> route_first, route_units, route_skips;
+  std::uint32_t route_bounds = 0;  // boxes the router tested each ray against
   std::uint64_t skipped = 0;
   std::uint32_t sphere_cost = 0;          // cycles per sphere test
   std::uint32_t node_cost = 0;            // cycles per node test (--top bvh)

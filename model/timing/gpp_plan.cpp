@@ -21,6 +21,7 @@ GppPlan<T>::GppPlan(const Scene& scene, const SceneGeometry<T>& geometry, const 
   if (!arch.routed()) return;
   route_.route = arch.route.policy == "ordered" ? Route::ordered : Route::multicast;
   route_.wave = static_cast<std::uint32_t>(arch.route.wave);
+  route_.per_sphere = arch.route.bound == "sphere";
   router_ = modulo_schedule(box_graph(), router_units(arch));
 }
 
@@ -28,7 +29,7 @@ template <typename T>
 std::uint64_t GppPlan<T>::route_cycles(std::size_t entered) const {
   if (!routed()) return 0;
   const std::uint64_t lanes = static_cast<std::uint64_t>(arch_.route.lanes);
-  const std::uint64_t per_lane = (assignment_.size() + lanes - 1) / lanes;
+  const std::uint64_t per_lane = (route_.tested() + lanes - 1) / lanes;
   std::uint64_t c = per_lane * static_cast<std::uint64_t>(router_.ii) + static_cast<std::uint64_t>(router_.length());
   if (route_.route == Route::ordered && entered > 1) {
     std::uint64_t log = 0;

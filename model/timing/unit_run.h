@@ -33,6 +33,7 @@ struct UnitRun {
 // the rays by how many units they went to (fanout[k]: rays sent to k units).
 struct RouteRun {
   std::uint64_t cycles = 0, skipped = 0;
+  std::uint64_t bounds = 0;  // boxes the router tests each ray against (a unit's, or its spheres')
   std::vector<std::uint64_t> fanout;
 };
 
@@ -40,6 +41,7 @@ struct RouteRun {
 template <typename T>
 void route_figures(const FunctionalFrame<T>& f, std::size_t units, RouteRun& r) {
   r.fanout.assign(units + 1, 0);
+  r.bounds = f.route_bounds;
   if (!f.routed) {
     r.fanout[units] = f.ray_count();
     return;

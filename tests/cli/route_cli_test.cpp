@@ -162,3 +162,33 @@ TEST_CASE("route: under contention every level stays near at (serial units withi
       }
     }
 }
+
+TEST_CASE("route: per-sphere bounds send fewer rays and render the same image at every level", "[cli][route]") {
+  const fs::path d = temp_dir("route_sphere_bounds");
+  const fs::path arch = d / "sphere.json";
+  std::ofstream(arch) << R"({"format": "oprt-arch/1", "route": {"policy": "ordered", "bound": "sphere", "lanes": 4}})";
+  const std::string common = "render " + scene("paper_room.json") + " --frames 0:1" + kCommon +
+                             " --accel bvh --top bvh --balance spatial --locality 1 --out ";
+  REQUIRE(run_oprt(common + (d / "unit").string() + " --route ordered --level analytic").status == 0);
+  const auto unit = stats(d / "unit")["frames"];
+  nlohmann::json at;
+  for (const char* level : {"at", "lt", "analytic"}) {
+    INFO(level);
+    const fs::path out = d / level;
+    REQUIRE(run_oprt(common + out.string() + " --arch " + arch.string() + " --level " + level).status == 0);
+    const auto sphere = stats(out);
+    for (std::size_t i = 0; i < 2; ++i) {
+      const auto& f = sphere["frames"][i];
+      check_route_figures(f, 6);
+      CHECK(f["image_hash"] == unit[i]["image_hash"]);
+      CHECK(f["route"]["fanout_mean"].get<double>() <= unit[i]["route"]["fanout_mean"].get<double>());
+      CHECK(f["busy_cycles"].get<std::uint64_t>() <= unit[i]["busy_cycles"].get<std::uint64_t>());
+      // A box per visible sphere: the room's 32 objects, each split in 2, all visible.
+      CHECK(f["route"]["bounds"] == 64);
+      CHECK(sphere["spheres"] == 64);
+      CHECK(unit[i]["route"]["bounds"] == 6);
+    }
+    if (std::string(level) == "at") at = sphere["frames"];
+    else CHECK(sphere["frames"][1]["makespan_cycles"] == at[1]["makespan_cycles"]);
+  }
+}

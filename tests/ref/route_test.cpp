@@ -72,3 +72,24 @@ TEST_CASE("route: a ray that starts inside a bound enters it at 0", "[ref][route
   CHECK(e[0].unit == 1);
   CHECK(e[0].entry == 0.0f);
 }
+
+TEST_CASE("route: per-sphere bounds let a ray pass between a unit's distant spheres", "[ref][route]") {
+  RouteTable<float> t;
+  t.route = Route::multicast;
+  // Unit 0 holds two spheres, x in [0, 1] and [9, 10]; their union spans x in [0, 10].
+  t.bound = {slab_x(0, 10)};
+  t.per_sphere = true;
+  t.first = {0, 2};
+  t.boxes = {slab_x(0, 1), slab_x(9, 10)};
+  CHECK(t.tested() == 2);
+  std::vector<RouteTable<float>::Entered> e;
+  const Ray<float> between{{5, 0.5f, -1}, {0, 0, 1}};  // crosses z at x = 5: inside the union only
+  CHECK(t.entered(between, e) == 0);
+  CHECK_FALSE(t.worth(between, 0, kInf<float>));
+  const Ray<float> through_far{{-1, 0.5f, 0.5f}, {1, 0, 0}};  // enters the near box at 1, the far at 10
+  REQUIRE(t.entered(through_far, e) == 1);
+  CHECK(e[0].entry == 1.0f);  // the nearer of its spheres' entries
+  t.per_sphere = false;  // one box per unit: the ray between them enters it
+  CHECK(t.tested() == 1);
+  CHECK(t.entered(between, e) == 1);
+}
