@@ -14,9 +14,13 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <iostream>
+#include <unistd.h>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace {
@@ -45,7 +49,26 @@ class Numbers {
 
 }  // namespace
 
+namespace {
+
+// A frame's trace is hundreds of megabytes written once: on 4 KiB pages the kernel's page
+// faults were a fifth of the analytic level's time (perf). glibc's malloc backs its memory
+// with transparent huge pages when the tunable glibc.malloc.hugetlb=1 is set, and tunables are
+// read only when a process starts: set it and start again, once (OPRT_SMALL_PAGES=1: not).
+// Measured on the room at 256x256 (docs/results.md, "What the options cost the simulator").
+void start_on_huge_pages(char** argv) {
+  if (std::getenv("OPRT_SMALL_PAGES")) return;
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  if (tunables && std::strstr(tunables, "glibc.malloc.hugetlb")) return;  // set already (by us or the user)
+  const std::string value = tunables ? std::string(tunables) + ":glibc.malloc.hugetlb=1" : "glibc.malloc.hugetlb=1";
+  if (::setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
+  ::execv("/proc/self/exe", argv);  // returns only if it failed: then go on as we are
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  start_on_huge_pages(argv);
   using namespace oprt;
   CLI::App app{"oprt: a SystemC/TLM-2.0 model of an object-parallel ray-tracing engine for animated scenes"};
   app.require_subcommand(1);
