@@ -130,13 +130,17 @@ inline BoxRay<T> box_ray(const Ray<T>& r) {
 template <typename T>
 constexpr T kBoxSlack = T(1) + 2 * gamma<T>(4);
 
-// Does the ray's segment [0, limit] meet the box (conservatively, see kBoxSlack)? A
+// The segment [0, limit] clipped by the box's three slabs: [t0, t1], empty when t0 > t1. A
 // direction component of exactly zero gives an infinite reciprocal: a slab the origin lies
 // strictly inside gives (-inf, inf), one it lies outside gives an empty interval, and an
 // origin exactly on the slab's plane gives 0 * inf = NaN, which the comparisons below
 // ignore (the ray lies in the closed slab, which imposes nothing).
 template <typename T>
-inline bool hit_box(const BoxRay<T>& r, const Box<T>& b, T limit) {
+struct SlabSpan {
+  T t0, t1;
+};
+template <typename T>
+inline SlabSpan<T> slab_span(const BoxRay<T>& r, const Box<T>& b, T limit) {
   T t0 = 0, t1 = limit;
   for (int a = 0; a < 3; ++a) {
     const T tn = ((r.neg[a] ? b.hi[a] : b.lo[a]) - r.o[a]) * r.inv[a];
@@ -144,7 +148,14 @@ inline bool hit_box(const BoxRay<T>& r, const Box<T>& b, T limit) {
     if (tn > t0) t0 = tn;
     if (tf < t1) t1 = tf;
   }
-  return t0 <= t1 * kBoxSlack<T>;
+  return {t0, t1};
+}
+
+// Does the ray's segment [0, limit] meet the box (conservatively, see kBoxSlack)?
+template <typename T>
+inline bool hit_box(const BoxRay<T>& r, const Box<T>& b, T limit) {
+  const SlabSpan<T> s = slab_span(r, b, limit);
+  return s.t0 <= s.t1 * kBoxSlack<T>;
 }
 
 // The same test, giving the distance at which the ray enters the box (0 if it starts
@@ -152,14 +163,8 @@ inline bool hit_box(const BoxRay<T>& r, const Box<T>& b, T limit) {
 // distance needs (only for the order; skipping a box is hit_box's decision).
 template <typename T>
 inline T box_entry(const BoxRay<T>& r, const Box<T>& b, T limit) {
-  T t0 = 0, t1 = limit;
-  for (int a = 0; a < 3; ++a) {
-    const T tn = ((r.neg[a] ? b.hi[a] : b.lo[a]) - r.o[a]) * r.inv[a];
-    const T tf = ((r.neg[a] ? b.lo[a] : b.hi[a]) - r.o[a]) * r.inv[a];
-    if (tn > t0) t0 = tn;
-    if (tf < t1) t1 = tf;
-  }
-  return t0 <= t1 * kBoxSlack<T> ? t0 : kInf<T>;
+  const SlabSpan<T> s = slab_span(r, b, limit);
+  return s.t0 <= s.t1 * kBoxSlack<T> ? s.t0 : kInf<T>;
 }
 
 }  // namespace oprt
