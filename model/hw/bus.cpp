@@ -1,6 +1,7 @@
 #include "hw/bus.h"
 
 #include "hw/local_clock.h"
+#include "timing/transfers.h"
 
 #include <algorithm>
 
@@ -14,8 +15,7 @@ Bus::Bus(const sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter
       out("out"),
       shared_(arch.bus.model == BusModel::shared),
       decoupled_(decoupled),
-      bytes_per_cycle_(arch.bus.bytes_per_cycle),
-      arbitration_cycles_(arch.bus.arbitration_cycles),
+      arch_(arch),
       cycle_(arch.cycle_ns(), SC_NS),
       arbiter_(decoupled && arch.bus.lt_arbitration == LtArbitration::busy_until),
       vcd_(vcd),
@@ -52,8 +52,7 @@ void Bus::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
   ++transfers_;
   bytes_ += p.get_data_length();
   if (shared_) {
-    const std::uint64_t cycles =
-        arbitration_cycles_ + (p.get_data_length() + bytes_per_cycle_ - 1) / bytes_per_cycle_;
+    const std::uint64_t cycles = bus_occupancy(arch_, p.get_data_length());
     busy_cycles_ += cycles;
     arbiter_.forget_before(sc_time_stamp());
     sc_time start;

@@ -68,7 +68,7 @@ class Bus : public sc_core::sc_module {
   void b_transport(int from, tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
 
   const bool shared_, decoupled_;
-  const int bytes_per_cycle_, arbitration_cycles_;
+  const Arch& arch_;
   const sc_core::sc_time cycle_;
   std::vector<Region> regions_;
   std::size_t last_ = ~std::size_t{0};  // index of the region the last transfer went to

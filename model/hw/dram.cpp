@@ -2,6 +2,7 @@
 
 #include "hw/extensions.h"
 #include "hw/local_clock.h"
+#include "timing/transfers.h"
 
 namespace oprt::hw {
 
@@ -12,8 +13,7 @@ Dram::Dram(const sc_module_name& name, const Arch& arch, std::size_t units)
       in("in"),
       cycle_(arch.cycle_ns(), SC_NS),
       latency_(cycle_ * static_cast<double>(arch.memory.dram.latency_cycles)),
-      transfer_(cycle_ * static_cast<double>((arch.memory.cache.line_bytes + arch.memory.dram.bytes_per_cycle - 1) /
-                                             arch.memory.dram.bytes_per_cycle)),
+      transfer_(cycle_ * static_cast<double>(dram_line_cycles(arch))),
       units_per_channel_(static_cast<std::uint32_t>(arch.memory.dram.units_per_channel)),
       channels_((units + units_per_channel_ - 1) / units_per_channel_ + 1) {
   in.register_b_transport(this, &Dram::b_transport);

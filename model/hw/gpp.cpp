@@ -1,6 +1,7 @@
 #include "hw/gpp.h"
 
 #include "ref/stop.h"
+#include "timing/gpp_recipe.h"
 
 #include <algorithm>
 
@@ -62,7 +63,8 @@ void Gpp<T>::run() {
     wait(request_);
     clock_.resync();
     in_frame_ = true;
-    if (command_->setup_only) load_memories();
+    if (command_->setup_only)
+      for (const MemoryLoad& l : plan_.memory_loads()) load(l);
     else render_frame(*command_);
     in_frame_ = false;
     clock_.sync();
@@ -144,48 +146,65 @@ void Gpp<T>::trace_in_flight() {
   if (vcd_) vcd_->change(vcd_in_flight_, clock_.now().value(), issued_ - retired_);
 }
 
-// Write ray `id`'s next wave: a new ray is generated first, and routed when its units are
-// chosen by their bounds (gpp_plan.h); then the write, to every FIFO (broadcast), to the
-// wave's FIFOs in one transfer with a unit mask, or one transfer per unit.
+// Write ray `id`'s next wave (gpp_recipe.h): room first, as at `at`; then the recipe.
 template <typename T>
 void Gpp<T>::issue(std::uint32_t id) {
-  clock_.advance_to(room_time(id));  // as at `at`: room first, then the ray is generated
-  const auto wave = work_->wave(id);
+  clock_.advance_to(room_time(id));
+  current_ray_ = id;
+  issue_ray(plan_, *work_, id, arch_, *this);
+}
+
+// The recipe's clock (gpp_recipe.h): the GPP's cycles on its local clock, shown in the
+// waveform and the timeline.
+template <typename T>
+void Gpp<T>::compute(GppPhase phase, std::uint64_t cycles) {
+  static constexpr const char* names[] = {"refit", "issue", "route", "shade"};
+  const sc_time start = clock_.now();
+  const int signal = phase == GppPhase::refit ? vcd_refit_ : phase == GppPhase::route ? vcd_routing_ : -1;
+  if (vcd_ && signal >= 0) vcd_->change(signal, start.value(), 1);
+  clock_.advance(cycle_ * static_cast<double>(cycles));
+  if (vcd_ && signal >= 0) vcd_->change(signal, clock_.now().value(), 0);
+  if (phase == GppPhase::route) stats_.route_cycles += cycles;
+  if (phase == GppPhase::refit && timeline_)
+    timeline_->slice(track_, "refit", start.value(), clock_.now().value(), {{"nodes", plan_.config().refit_nodes}});
+  else if (phase == GppPhase::route && router_track_ >= 0)
+    timeline_->slice(router_track_, "route", start.value(), clock_.now().value(),
+                     {{"ray", current_ray_}, {"units", work_->wave(current_ray_).size(units_)}});
+  else if (phase != GppPhase::refit && timeline_)
+    timeline_->slice(track_, names[static_cast<int>(phase)], start.value(), clock_.now().value(), {{"ray", current_ray_}});
+}
+
+template <typename T>
+void Gpp<T>::generated(std::uint32_t id) {
+  ++issued_;
+  ++stats_.rays[static_cast<int>(frame_.rays[id].kind)];
+  trace_in_flight();
+}
+
+template <typename T>
+void Gpp<T>::routed_nowhere(std::uint32_t id) {  // the router's answer (a miss, not occluded) is the ray's
+  if (vcd_ && vcd_fanout_ >= 0) vcd_->change(vcd_fanout_, clock_.now().value(), 0);
+  pending_[id].answers_left = 0;
+  completed_at_[id] = clock_.now();
+  work_->answered(clock_.now(), id);
+}
+
+// The wave's writes: to every FIFO (broadcast), to the wave's FIFOs in one transfer with a
+// unit mask after the ray's bytes, or one transfer per unit.
+template <typename T>
+template <typename Wave>
+void Gpp<T>::write_rays(std::uint32_t id, const Wave& wave, const RayWrites& w) {
   const std::size_t n = wave.size(units_);
-  if (wave.initial) {
-    const sc_time start = clock_.now();
-    clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_ray));
-    if (timeline_) timeline_->slice(track_, "issue", start.value(), clock_.now().value(), {{"ray", id}});
-    ++issued_;
-    ++stats_.rays[static_cast<int>(frame_.rays[id].kind)];
-    if (const std::uint64_t route = plan_.route_cycles(work_->entered(id))) {
-      const sc_time from = clock_.now();
-      if (vcd_) vcd_->change(vcd_routing_, from.value(), 1);
-      clock_.advance(cycle_ * static_cast<double>(route));
-      if (vcd_) vcd_->change(vcd_routing_, clock_.now().value(), 0);
-      if (router_track_ >= 0)
-        timeline_->slice(router_track_, "route", from.value(), clock_.now().value(), {{"ray", id}, {"units", n}});
-      stats_.route_cycles += route;
-    }
-    trace_in_flight();
-  }
-  work_->wrote(id);
   pending_[id].answers_left = static_cast<std::uint32_t>(n);
   if (vcd_ && vcd_fanout_ >= 0) vcd_->change(vcd_fanout_, clock_.now().value(), n);
-  if (n == 0) {  // routed to no unit: the router's answer (a miss, not occluded) is the ray's
-    completed_at_[id] = clock_.now();
-    work_->answered(clock_.now(), id);
-    return;
-  }
-  const unsigned bytes = Bytes<T>::ray_bytes(arch_.top_tree());
+  const auto bytes = static_cast<unsigned>(w.ray_bytes);
   unsigned char* data = ray_bytes_.data(bytes + units_);
   WireRay<T>::write(data, id, frame_.rays[id], arch_.top_tree());
-  if (!wave.first) {
+  if (w.kind == RayWrites::Kind::broadcast) {
     prepare(ray_, tlm::TLM_WRITE_COMMAND, addr::broadcast_rays, data, bytes);
     write(ray_);
-  } else if (arch_.route.transfer == "mask") {
-    // The unit mask follows the ray's bytes (one bit per unit); the bus delivers it to those.
-    const unsigned mask_bytes = (units_ + 7) / 8;
+  } else if (w.kind == RayWrites::Kind::masked) {
+    const unsigned mask_bytes = static_cast<unsigned>(w.bytes - w.ray_bytes);  // one bit per unit; the bus delivers to those
     std::fill(data + bytes, data + bytes + mask_bytes, 0);
     for (const std::uint32_t* p = wave.first; p != wave.last; ++p) {
       const std::uint32_t u = *p & ~kWaveEnd;
@@ -249,10 +268,7 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
       SC_REPORT_FATAL(name(), ("ray " + std::to_string(id) + ": the units' answers disagree with the functional trace").c_str());
     if (!pr.hit.valid()) {
       finish_pixel(p, img);
-    } else {
-      const sc_time start = clock_.now();
-      clock_.advance(cycle_ * static_cast<double>(arch_.gpp.cycles_per_hit));
-      if (timeline_) timeline_->slice(track_, "shade", start.value(), clock_.now().value(), {{"ray", id}});
+    } else {  // shaded (gpp.cycles_per_hit) by the recipe's retire_ray
       img.z[p] = static_cast<float>(pr.hit.t);
       img.object[p] = pr.hit.object;
       img.prim[p] = pr.hit.prim;
@@ -266,53 +282,45 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
 }
 
 // The plan's loads (gpp_plan.h): the set-up command loads every memory, outside any frame;
-// a frame writes what moved or deforms, over the bus, before its rays.
+// a frame writes what moved or deforms, over the bus, before its rays (start_frame).
 template <typename T>
-void Gpp<T>::load_memories() {
-  for (const MemoryLoad& l : plan_.memory_loads()) {
-    stats_.memory_load_bytes += l.bytes;
-    stats_.unit_memory_load_bytes.resize(plan_.units(), 0);
-    stats_.unit_memory_load_bytes[l.unit] += l.bytes;
-    const sc_time before = clock_.now();
-    LoadExtension& e = prepare<LoadExtension>(load_, tlm::TLM_WRITE_COMMAND,
-                                              addr::iu_window(static_cast<int>(l.unit)) + addr::iu_memory,
-                                              bulk_bytes_.data(l.bytes), static_cast<unsigned>(l.bytes));
-    e.load = &l;
-    write(load_);
-    stats_.memory_load_cycles += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
-  }
+void Gpp<T>::load(const MemoryLoad& l) {
+  stats_.memory_load_bytes += l.bytes;
+  stats_.unit_memory_load_bytes.resize(plan_.units(), 0);
+  stats_.unit_memory_load_bytes[l.unit] += l.bytes;
+  const sc_time before = clock_.now();
+  LoadExtension& e = prepare<LoadExtension>(load_, tlm::TLM_WRITE_COMMAND,
+                                            addr::iu_window(static_cast<int>(l.unit)) + addr::iu_memory,
+                                            bulk_bytes_.data(l.bytes), static_cast<unsigned>(l.bytes));
+  e.load = &l;
+  write(load_);
+  stats_.memory_load_cycles += static_cast<std::uint64_t>((clock_.now() - before) / cycle_ + 0.5);
+}
+
+template <typename T>
+void Gpp<T>::write_config(std::uint32_t u, std::uint64_t bytes64) {
+  const auto bytes = static_cast<unsigned>(bytes64);
+  stats_.config_bytes += bytes;
+  ConfigExtension<T>& e = prepare<ConfigExtension<T>>(config_, tlm::TLM_WRITE_COMMAND,
+                                                      addr::iu_window(static_cast<int>(u)) + addr::iu_config,
+                                                      bulk_bytes_.data(bytes), bytes);
+  e.registers = &plan_.registers()[u];
+  e.cached = plan_.cached(u);
+  write(config_);
 }
 
 template <typename T>
 void Gpp<T>::render_frame(const FrameCommand& cmd) {
   stats_ = GppStats{};
   stats_.start = clock_.now();
-  load_memories();  // geometry that moved or deforms (the set-up command loaded the rest)
   if (vcd_) vcd_->change(vcd_frame_, stats_.start.value(), static_cast<std::uint64_t>(cmd.frame));
-
-  // Configuration registers, and the refit of the units' trees before they are written.
-  const auto& config = plan_.configure(cmd);
+  // Geometry that moved or deforms (the set-up command loaded the rest), the refit of the
+  // units' trees, the configuration registers (gpp_recipe.h).
   units_ = static_cast<unsigned>(plan_.units());
+  const auto& config = start_frame(plan_, cmd, *this);
   stats_.refit_nodes = config.refit_nodes;
   stats_.refit_cycles = config.refit_cycles;
   stats_.built_nodes = config.built_nodes;
-  if (stats_.refit_nodes) {
-    const sc_time start = clock_.now();
-    if (vcd_) vcd_->change(vcd_refit_, start.value(), 1);
-    clock_.advance(cycle_ * static_cast<double>(stats_.refit_cycles));
-    if (vcd_) vcd_->change(vcd_refit_, clock_.now().value(), 0);
-    if (timeline_) timeline_->slice(track_, "refit", start.value(), clock_.now().value(), {{"nodes", stats_.refit_nodes}});
-  }
-  for (unsigned u = 0; u < units_; ++u) {
-    const auto bytes = static_cast<unsigned>(config.bytes[u]);
-    stats_.config_bytes += bytes;
-    ConfigExtension<T>& e = prepare<ConfigExtension<T>>(config_, tlm::TLM_WRITE_COMMAND,
-                                                        addr::iu_window(static_cast<int>(u)) + addr::iu_config,
-                                                        bulk_bytes_.data(bytes), bytes);
-    e.registers = &plan_.registers()[u];
-    e.cached = plan_.cached(u);
-    write(config_);
-  }
 
   // The frame's functional work, on every thread the pool allows (functional_frame.h).
   try {
@@ -351,7 +359,8 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     const auto next = work_->next(clock_.now(), ready, never, retired_ == issued_);
     if (next == GppWork<T, sc_time>::Next::done) break;
     if (next == GppWork<T, sc_time>::Next::retire) {
-      const auto r = work_->retire();
+      current_ray_ = work_->due_ray();
+      const auto r = retire_ray(*work_, arch_, *this);
       if (r.next_wave) clock_.advance_to(completed_at_[r.ray]);  // the wave is in; the next one is queued
       else retire(r.ray, cmd);
     } else if (next == GppWork<T, sc_time>::Next::issue) {

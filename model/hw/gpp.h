@@ -17,6 +17,7 @@
 #include "arch/arch.h"
 #include "timing/functional_frame.h"
 #include "timing/gpp_plan.h"
+#include "timing/gpp_recipe.h"
 #include "hw/local_clock.h"
 #include "hw/extensions.h"
 #include "hw/ray_fifo.h"
@@ -69,6 +70,15 @@ class Gpp : public sc_core::sc_module, public Waiter {
   void on_progress(std::function<void(std::uint64_t, std::uint64_t)> f) { progress_ = std::move(f); }
   std::string waiting_for() const override;
 
+  // The recipe's clock (timing/gpp_recipe.h), called by its steps only.
+  void compute(GppPhase phase, std::uint64_t cycles);
+  void load(const MemoryLoad& l);
+  void write_config(std::uint32_t unit, std::uint64_t bytes);
+  void generated(std::uint32_t id);
+  void routed_nowhere(std::uint32_t id);
+  template <typename Wave>
+  void write_rays(std::uint32_t id, const Wave& wave, const RayWrites& w);
+
  private:
   struct Pending {  // a ray waiting for answers
     std::uint32_t answers_left = 0;
@@ -80,7 +90,6 @@ class Gpp : public sc_core::sc_module, public Waiter {
   void host_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
   void hit_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
   void render_frame(const FrameCommand& cmd);
-  void load_memories();
   void write(tlm::tlm_generic_payload& p);
   // f(i) for each FIFO that ray `id`'s next wave is written to (every one when broadcast).
   template <typename F>
@@ -121,6 +130,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
   int vcd_in_flight_ = -1, vcd_frame_ = -1, vcd_refit_ = -1, vcd_routing_ = -1, vcd_fanout_ = -1;
   TimelineWriter* timeline_;  // null when not traced
   int track_ = -1, router_track_ = -1;
+  std::uint32_t current_ray_ = 0;  // the ray being issued or retired (the timeline names it)
   // For the watchdog (plain stores): in a frame, and what it waits for (-1: answers only,
   // else also room in that FIFO).
   bool in_frame_ = false;

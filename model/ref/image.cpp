@@ -1,4 +1,5 @@
 #include "ref/image.h"
+#include "ref/parallel.h"
 
 #include "scene/error.h"
 
@@ -7,6 +8,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfThreading.h>
 
 #include <stb_image_write.h>
 
@@ -97,7 +99,14 @@ void write_exr(const std::string& path, const FrameImage& img) {
     slice_f("Z", img.z);
     fb.insert("objectId", Imf::Slice(Imf::UINT, (char*)img.object.data(), us, us * img.width));
     fb.insert("primId", Imf::Slice(Imf::UINT, (char*)img.prim.data(), us, us * img.width));
-    Imf::OutputFile file(tmp.c_str(), header);
+    // OpenEXR compresses the file's blocks of scanlines on its own thread pool, as many
+    // threads as the functional work may use (the bytes do not depend on how many).
+    static const int threads = [] {
+      const int n = thread_count();
+      if (n > 1) Imf::setGlobalThreadCount(n);
+      return n > 1 ? n : 0;
+    }();
+    Imf::OutputFile file(tmp.c_str(), header, threads);
     file.setFrameBuffer(fb);
     file.writePixels(img.height);
   });

@@ -534,6 +534,9 @@ class AffReader {
   }
 
   Scene read(const std::string& path);
+  void read_lights(Scene& s, std::set<std::string>& used_anims);
+  void set_ambient(Scene& s, const std::vector<int>& mat_remap);
+  void warn_tpa_backwards();
 
  private:
   void parse_file(const std::string& path);
@@ -1150,23 +1153,7 @@ Scene AffReader::read(const std::string& path) {
   s.camera = cam ? CameraPathPtr(std::make_shared<AffCamera>(view_->camera, cam, clock_))
                  : CameraPathPtr(std::make_shared<FixedCamera>(view_->camera));
 
-  // Lights. An animated light (`la NAME`) is where its keyframes' translation puts it, frame
-  // by frame (BART: the light sits at the origin of its transform); without translation
-  // keys it stays at its written position.
-  for (const LightDef& l : lights_) {
-    PointLight p = l.light;
-    if (!l.anim.empty()) {
-      const AnimPtr a = find_anim(l.anim);
-      if (a) used_anims.insert(l.anim);
-      if (a && a->transl) {
-        p.position = Vec3d(0);
-        p.motion = std::make_shared<AffMotion>(std::vector<Link>{{Affine<double>::identity(), a}}, clock_);
-      } else {
-        note("animated light '" + l.anim + "' has no translation keys: it stays where it is written");
-      }
-    }
-    s.lights.push_back(p);
-  }
+  read_lights(s, used_anims);
 
   // Motions of the animated groups, outermost transform first.
   std::map<int, std::vector<Link>> chains;
@@ -1256,6 +1243,39 @@ Scene AffReader::read(const std::string& path) {
   }
   if (s.materials.empty()) s.materials.push_back(Material{"default", Vec3d(0.7), Vec3d(0.2), 32});
 
+  set_ambient(s, mat_remap);
+  for (const auto& [name, a] : anims_)
+    if (!used_anims.count(name)) note("keyframes 'k " + name + "' animate nothing (no 'x " + name + "')");
+
+  warn_tpa_backwards();
+  s.notes = notes_;
+  s.warnings = warnings_;
+  validate_scene(s);
+  return s;
+}
+
+// An animated light (`la NAME`) is where its keyframes' translation puts it, frame by frame
+// (BART: the light sits at the origin of its transform); without translation keys it stays at
+// its written position.
+void AffReader::read_lights(Scene& s, std::set<std::string>& used_anims) {
+  for (const LightDef& l : lights_) {
+    PointLight p = l.light;
+    if (!l.anim.empty()) {
+      const auto it = anims_.find(l.anim);
+      const AnimPtr a = it == anims_.end() ? nullptr : it->second;
+      if (a) used_anims.insert(l.anim);
+      if (a && a->transl) {
+        p.position = Vec3d(0);
+        p.motion = std::make_shared<AffMotion>(std::vector<Link>{{Affine<double>::identity(), a}}, clock_);
+      } else {
+        note("animated light '" + l.anim + "' has no translation keys: it stays where it is written");
+      }
+    }
+    s.lights.push_back(p);
+  }
+}
+
+void AffReader::set_ambient(Scene& s, const std::vector<int>& mat_remap) {
   // Ambient: BART's am x ka as Scene::ambient x kd (see fill()), r the median ka / kd.
   std::vector<double> ratios;
   for (std::size_t m = 0; m < materials_.size(); ++m) {
@@ -1285,9 +1305,9 @@ Scene AffReader::read(const std::string& path) {
     note(n.str());
   }
 
-  for (const auto& [name, a] : anims_)
-    if (!used_anims.count(name)) note("keyframes 'k " + name + "' animate nothing (no 'x " + name + "')");
+}
 
+void AffReader::warn_tpa_backwards() {
   for (const auto& [file, b] : tpa_backwards_)
     warn(file, b.line, "'tpa' key times go backwards: key " + std::to_string(b.key + 1) + " of " +
                            std::to_string(b.keys) + " (line " + std::to_string(b.key_line) + ") at time " +
@@ -1297,10 +1317,6 @@ Scene AffReader::read(const std::string& path) {
                                                : "") +
                            "; read as BART reads them (at time t, from the key before the first key later than t "
                            "to that key)");
-  s.notes = notes_;
-  s.warnings = warnings_;
-  validate_scene(s);
-  return s;
 }
 
 }  // namespace

@@ -1,19 +1,12 @@
-// The analytic level: no SystemC process per ray. It follows the same plan as the SystemC
-// GPP (gpp_plan.h: the loads, the registers, the functional trace, the order of work) and
-// times the units with the same unit timing (serial_unit_timing.h, pipeline_timing.h) and
-// the same object memories (object_memory_model.h); only the way time passes differs:
-// instead of events, a recurrence over the order in which rays enter the FIFOs, which is
-// the order the GPP issues them:
-//   a unit starts ray k at max(when it finished its previous ray, when ray k arrived),
-//   a ray completes when its last answer arrives, and the GPP handles completions in
-//   (time, ray) order with its priorities (answers, pending shadow rays, the next primary
-//   ray), FIFO room and the shared bus's calendar.
-// A unit's timing for a ray depends only on rays issued before it, so each ray is timed
-// when it is issued. Under the paper's ideal architecture this is exactly the timing of
-// `at`. With a shared bus it is approximate: a later-issued ray's answer may in truth take
-// the bus before an earlier-issued one's, and the calendar grants in issue order instead;
-// and the GPP decides to write a ray before it knows when the FIFOs have room (an answer
-// due meanwhile waits). Not a SystemC module: plain C++, one call per frame.
+// The analytic level: no SystemC process per ray. It follows the same plan and recipe as the
+// SystemC GPP (gpp_plan.h, gpp_recipe.h: the loads, the registers, the functional trace, the
+// order of work, what each step costs and writes) and times the units with the same unit
+// timing (serial_unit_timing.h, pipeline_timing.h) and the same object memories
+// (object_memory_model.h); only the way time passes differs: instead of events, a recurrence
+// over the order in which rays enter the FIFOs, which is the order the GPP issues them. Its
+// parts mirror the SystemC modules: analytic_gpp.h (hw/gpp.h), analytic_bus.h (hw/bus.h),
+// analytic_fifo.h (hw/ray_fifo.h), analytic_units.h (hw/serial_unit.h, pipelined_unit.h),
+// analytic_dram.h (hw/dram.h). Not a SystemC module: plain C++, one call per frame.
 #pragma once
 
 #include "balance/assign.h"
@@ -21,6 +14,8 @@
 #include "timing/functional_frame.h"
 #include "timing/gpp_plan.h"
 #include "timing/object_memory_model.h"
+#include "timing/analytic_fifo.h"
+#include "timing/analytic_units.h"
 #include "timing/pipeline_timing.h"
 #include "timing/unit_run.h"
 #include "scene/scene.h"
@@ -43,7 +38,6 @@ class AnalyticEngine {
   FrameRun run_frame(const FrameCommand& cmd);
 
  private:
-  class SharedDram;
   const SceneGeometry<T>& geom_;
   const Arch& arch_;
   GppPlan<T> plan_;
@@ -52,6 +46,8 @@ class AnalyticEngine {
   std::vector<PipelinedUnitTiming> pipes_;      // pipelined units
   std::vector<std::uint64_t> fifo_peak_;        // per unit, over the run
   void make_units(std::size_t units);
+  void unit_figures(FrameRun& out, std::vector<UnitTimed>& timed, const AnalyticFifos& fifos,
+                    const AnalyticUnits<T>& units);
 };
 
 extern template class AnalyticEngine<float>;

@@ -178,15 +178,17 @@ class Recorder {
   UnitCycles entered_;  // the visits that entered a sphere
 };
 
-}  // namespace
-
+// Per thread: its work tables, and the scratch space of its pixels.
 template <typename T>
-void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const std::vector<IuRegisters<T>>& units,
-                      const CameraRays& camera, const Shader<T>& shader, const Arch& arch, int width, int height,
-                      bool detail, const RouteTable<T>* route) {
-  const std::size_t pixels = static_cast<std::size_t>(width) * height;
-  const std::size_t spheres = g.sphere_count();
-  const std::size_t n_units = units.size();
+struct Local {
+  Totals totals;
+  PixelScratch<T> scratch;
+};
+
+// The frame's header: the units' register sizes and costs; the chunks' detail cleared.
+template <typename T>
+void prepare_frame(FunctionalFrame<T>& out, std::vector<Chunk<T>>& chunks, const std::vector<IuRegisters<T>>& units,
+                   const Arch& arch, int width, int height, bool detail, const RouteTable<T>* route) {
   out.image = FrameImage(width, height);
   out.detailed = detail;
   out.sphere_cost = arch.costs.sphere;
@@ -197,46 +199,28 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
     out.unit_entries.push_back(static_cast<std::uint32_t>(r.size()));
     out.unit_top.push_back(r.top.empty() ? 0 : 1);
   }
-
-  const FrameTraceInputs<T> in{g, units, camera, shader, arch.memory.model == MemoryModel::latency, route};
-  const bool routed = route && route->routed();
-  out.routed = routed;
-  out.route_bounds = routed ? static_cast<std::uint32_t>(route->tested()) : 0;
-  std::vector<Chunk<T>> chunks(chunk_count(pixels, kPixelsPerChunk));
+  out.routed = route && route->routed();
+  out.route_bounds = out.routed ? static_cast<std::uint32_t>(route->tested()) : 0;
   out.detail.resize(detail ? chunks.size() : 0);
   for (std::size_t c = 0; c < out.detail.size(); ++c) {
     auto& d = out.detail[c];
     d.visits.clear();
-    d.records.resize(n_units);
-    d.tree_tests.resize(n_units);
+    d.records.resize(units.size());
+    d.tree_tests.resize(units.size());
     for (auto& r : d.records) r.clear();
     for (auto& t : d.tree_tests) t.clear();
     chunks[c].detail = &d;
   }
-  struct Local {
-    Totals totals;
-    PixelScratch<T> scratch;
-  };
-  tbb::enumerable_thread_specific<Local> locals([&] {
-    Local l;
-    for (auto& k : l.totals.per_sphere) k.assign(spheres, WorkCounts{});
-    l.totals.units.assign(n_units, UnitCycles{});
-    l.totals.node_tests.assign(n_units, {});
-    return l;
-  });
-  parallel_chunks(pixels, kPixelsPerChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    throw_if_stopped();
-    Local& l = locals.local();
-    Recorder<T> rec(chunks[c], l.totals, arch, units, detail, routed);
-    for (std::size_t p = begin; p < end; ++p)
-      trace_pixel(in, static_cast<int>(p % width), static_cast<int>(p / width), out.image, rec, l.scratch);
-    chunks[c].shrink();
-  });
+}
 
+// The threads' work tables, added up (integer sums: the same in any order).
+template <typename T>
+void sum_totals(FunctionalFrame<T>& out, const tbb::enumerable_thread_specific<Local<T>>& locals, std::size_t spheres,
+                std::size_t n_units) {
   for (auto& k : out.per_sphere) k.assign(spheres, WorkCounts{});
   out.unit_cycles.assign(n_units, UnitCycles{});
   out.unit_node_tests.assign(n_units, {});
-  for (const Local& l : locals) {
+  for (const Local<T>& l : locals) {
     for (int k = 0; k < kRayKinds; ++k)
       for (std::size_t s = 0; s < spheres; ++s) out.per_sphere[k][s] += l.totals.per_sphere[k][s];
     for (std::size_t u = 0; u < n_units; ++u) {
@@ -244,19 +228,27 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
       for (int k = 0; k < kRayKinds; ++k) out.unit_node_tests[u][k] += l.totals.node_tests[u][k];
     }
   }
+}
 
-  // Assemble: rays in pixel order; each unit's records, visits and hits in ray order, with
-  // the chunks' local indices turned into the frame's and the unit's.
+// Where each chunk's rays, pixels, routed units, and per unit records and hits start in the
+// frame's arrays.
+struct ChunkBases {
+  std::vector<std::size_t> ray, pixel, route;  // [chunk], one more at the end
+  std::vector<std::uint32_t> rec, hit;         // [chunk * units + unit]
+};
+
+template <typename T>
+ChunkBases chunk_bases(FunctionalFrame<T>& out, const std::vector<Chunk<T>>& chunks, std::size_t n_units) {
   const std::size_t n_chunks = chunks.size();
-  std::vector<std::size_t> ray_base(n_chunks + 1, 0), pixel_base(n_chunks + 1, 0), route_base(n_chunks + 1, 0);
-  // [chunk][unit]: where the chunk's records and hits start in the unit's arrays
-  std::vector<std::uint32_t> rec_base(n_chunks * n_units), hit_base(n_chunks * n_units);
+  ChunkBases b{std::vector<std::size_t>(n_chunks + 1, 0), std::vector<std::size_t>(n_chunks + 1, 0),
+               std::vector<std::size_t>(n_chunks + 1, 0), std::vector<std::uint32_t>(n_chunks * n_units),
+               std::vector<std::uint32_t>(n_chunks * n_units)};
   out.units.resize(n_units);
   for (std::size_t u = 0; u < n_units; ++u) {
     std::uint32_t r = 0, h = 0;
     for (std::size_t c = 0; c < n_chunks; ++c) {
-      rec_base[c * n_units + u] = r;
-      hit_base[c * n_units + u] = h;
+      b.rec[c * n_units + u] = r;
+      b.hit[c * n_units + u] = h;
       r += chunks[c].records_of[u];
       h += chunks[c].hits_of[u];
     }
@@ -264,57 +256,72 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
     out.units[u].hits.resize(h);
   }
   for (std::size_t c = 0; c < n_chunks; ++c) {
-    ray_base[c + 1] = ray_base[c] + chunks[c].rays.size();
-    pixel_base[c + 1] = pixel_base[c] + chunks[c].pixel_rays.size();
-    route_base[c + 1] = route_base[c] + chunks[c].route_units.size();
+    b.ray[c + 1] = b.ray[c] + chunks[c].rays.size();
+    b.pixel[c + 1] = b.pixel[c] + chunks[c].pixel_rays.size();
+    b.route[c + 1] = b.route[c] + chunks[c].route_units.size();
   }
+  return b;
+}
+
+// Chunk c's rays, routes, pixels and records into the frame's arrays, its local indices
+// turned into the frame's and the unit's; its memory is given back.
+template <typename T>
+void copy_chunk(FunctionalFrame<T>& out, Chunk<T>& k, std::size_t c, const ChunkBases& b, std::size_t n_units) {
+  // The detail stays where the chunk wrote it (FunctionalFrame::visits_of): no copy.
+  std::copy(k.rays.begin(), k.rays.end(), out.rays.begin() + static_cast<std::ptrdiff_t>(b.ray[c]));
+  if (out.routed) {
+    std::copy(k.route_units.begin(), k.route_units.end(), out.route_units.begin() + static_cast<std::ptrdiff_t>(b.route[c]));
+    auto first = static_cast<std::uint32_t>(b.route[c]);
+    for (std::size_t i = 0; i < k.route_count.size(); ++i) {
+      out.route_first[b.ray[c] + i] = first;
+      first += k.route_count[i];
+    }
+    std::copy(k.route_skips.begin(), k.route_skips.end(), out.route_skips.begin() + static_cast<std::ptrdiff_t>(b.ray[c]));
+  }
+  auto r = static_cast<std::uint32_t>(b.ray[c]);
+  for (std::size_t p = 0; p < k.pixel_rays.size(); ++p) {
+    out.pixel_rays[b.pixel[c] + p] = r;
+    r += k.pixel_rays[p];
+  }
+  std::vector<std::uint32_t> next_rec(b.rec.begin() + c * n_units, b.rec.begin() + (c + 1) * n_units);
+  std::vector<std::uint32_t> next_hit(b.hit.begin() + c * n_units, b.hit.begin() + (c + 1) * n_units);
+  for (const ChunkRecord& cr : k.records) {
+    UnitTrace<T>& ut = out.units[cr.unit];
+    UnitRayWork w = cr.work;
+    w.ray += static_cast<std::uint32_t>(b.ray[c]);
+    if (w.answer != kNone && w.answer != kOccluded) {
+      ut.hits[next_hit[cr.unit]] = k.hits[w.answer];
+      w.answer = next_hit[cr.unit]++;
+    }
+    ut.work[next_rec[cr.unit]++] = w;
+  }
+  k = Chunk<T>{};  // its memory back before the next chunk's copy: peak = the frame, not twice it
+}
+
+// Assemble: rays in pixel order; each unit's records, visits and hits in ray order.
+template <typename T>
+void assemble(FunctionalFrame<T>& out, std::vector<Chunk<T>>& chunks, std::size_t pixels, std::size_t n_units) {
+  const std::size_t n_chunks = chunks.size();
+  const ChunkBases b = chunk_bases(out, chunks, n_units);
   out.skipped = 0;
   for (const Chunk<T>& k : chunks) out.skipped += k.skipped;
-  out.record_base = rec_base;
-  const std::size_t rays = ray_base[n_chunks];
+  out.record_base = b.rec;
+  const std::size_t rays = b.ray[n_chunks];
   out.rays.resize(rays);
   out.pixel_rays.resize(pixels + 1);
-  out.route_first.assign(routed ? rays + 1 : 0, 0);
-  out.route_units.resize(routed ? route_base[n_chunks] : 0);
-  out.route_skips.assign(routed ? rays : 0, 0);
-  parallel_chunks(n_chunks, 1, [&](std::size_t c, std::size_t, std::size_t) {
-    Chunk<T>& k = chunks[c];
-    // The detail stays where the chunk wrote it (FunctionalFrame::visits_of): no copy.
-    std::copy(k.rays.begin(), k.rays.end(), out.rays.begin() + static_cast<std::ptrdiff_t>(ray_base[c]));
-    if (routed) {
-      std::copy(k.route_units.begin(), k.route_units.end(), out.route_units.begin() + static_cast<std::ptrdiff_t>(route_base[c]));
-      auto first = static_cast<std::uint32_t>(route_base[c]);
-      for (std::size_t i = 0; i < k.route_count.size(); ++i) {
-        out.route_first[ray_base[c] + i] = first;
-        first += k.route_count[i];
-      }
-      std::copy(k.route_skips.begin(), k.route_skips.end(), out.route_skips.begin() + static_cast<std::ptrdiff_t>(ray_base[c]));
-    }
-    auto r = static_cast<std::uint32_t>(ray_base[c]);
-    for (std::size_t p = 0; p < k.pixel_rays.size(); ++p) {
-      out.pixel_rays[pixel_base[c] + p] = r;
-      r += k.pixel_rays[p];
-    }
-    std::vector<std::uint32_t> next_rec(rec_base.begin() + c * n_units, rec_base.begin() + (c + 1) * n_units);
-    std::vector<std::uint32_t> next_hit(hit_base.begin() + c * n_units, hit_base.begin() + (c + 1) * n_units);
-    for (std::size_t j = 0; j < k.records.size(); ++j) {
-      const ChunkRecord& cr = k.records[j];
-      UnitTrace<T>& ut = out.units[cr.unit];
-      UnitRayWork w = cr.work;
-      w.ray += static_cast<std::uint32_t>(ray_base[c]);
-      if (w.answer != kNone && w.answer != kOccluded) {
-        ut.hits[next_hit[cr.unit]] = k.hits[w.answer];
-        w.answer = next_hit[cr.unit]++;
-      }
-      const std::uint32_t i = next_rec[cr.unit]++;
-      ut.work[i] = w;
-    }
-    k = Chunk<T>{};  // its memory back before the next chunk's copy: peak = the frame, not twice it
-  });
+  out.route_first.assign(out.routed ? rays + 1 : 0, 0);
+  out.route_units.resize(out.routed ? b.route[n_chunks] : 0);
+  out.route_skips.assign(out.routed ? rays : 0, 0);
+  parallel_chunks(n_chunks, 1, [&](std::size_t c, std::size_t, std::size_t) { copy_chunk(out, chunks[c], c, b, n_units); });
   out.pixel_rays[pixels] = static_cast<std::uint32_t>(rays);
-  if (routed) out.route_first[rays] = static_cast<std::uint32_t>(route_base[n_chunks]);
-  // Each unit's index: one bit per ray, and the records before each 64-ray word.
-  parallel_chunks(n_units, 1, [&](std::size_t u, std::size_t, std::size_t) {
+  if (out.routed) out.route_first[rays] = static_cast<std::uint32_t>(b.route[n_chunks]);
+}
+
+// Each unit's index: one bit per ray, and the records before each 64-ray word.
+template <typename T>
+void index_units(FunctionalFrame<T>& out) {
+  const std::size_t rays = out.rays.size();
+  parallel_chunks(out.units.size(), 1, [&](std::size_t u, std::size_t, std::size_t) {
     UnitTrace<T>& ut = out.units[u];
     const std::size_t words = rays / 64 + 1;
     ut.has.assign(words, 0);
@@ -326,6 +333,38 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
       before += static_cast<std::uint32_t>(__builtin_popcountll(ut.has[i]));
     }
   });
+}
+
+}  // namespace
+
+template <typename T>
+void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const std::vector<IuRegisters<T>>& units,
+                      const CameraRays& camera, const Shader<T>& shader, const Arch& arch, int width, int height,
+                      bool detail, const RouteTable<T>* route) {
+  const std::size_t pixels = static_cast<std::size_t>(width) * height;
+  const std::size_t spheres = g.sphere_count();
+  const std::size_t n_units = units.size();
+  std::vector<Chunk<T>> chunks(chunk_count(pixels, kPixelsPerChunk));
+  prepare_frame(out, chunks, units, arch, width, height, detail, route);
+  const FrameTraceInputs<T> in{g, units, camera, shader, arch.memory.model == MemoryModel::latency, route};
+  tbb::enumerable_thread_specific<Local<T>> locals([&] {
+    Local<T> l;
+    for (auto& k : l.totals.per_sphere) k.assign(spheres, WorkCounts{});
+    l.totals.units.assign(n_units, UnitCycles{});
+    l.totals.node_tests.assign(n_units, {});
+    return l;
+  });
+  parallel_chunks(pixels, kPixelsPerChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    throw_if_stopped();
+    Local<T>& l = locals.local();
+    Recorder<T> rec(chunks[c], l.totals, arch, units, detail, out.routed);
+    for (std::size_t p = begin; p < end; ++p)
+      trace_pixel(in, static_cast<int>(p % width), static_cast<int>(p / width), out.image, rec, l.scratch);
+    chunks[c].shrink();
+  });
+  sum_totals(out, locals, spheres, n_units);
+  assemble(out, chunks, pixels, n_units);
+  index_units(out);
 #ifdef __GLIBC__
   // The chunks' working storage, freed above by the pool's threads, stays in their malloc
   // arenas, counted in the process's memory for the rest of the frame: hand it back. (Once

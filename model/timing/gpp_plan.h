@@ -63,6 +63,7 @@ class GppPlan {
     std::vector<std::uint64_t> bytes;  // per unit: its configuration registers written
   };
   const Config& configure(const FrameCommand& cmd);
+  const Config& config() const { return config_; }
   const std::vector<IuRegisters<T>>& registers() const { return registers_; }
 
   // Trace the frame's functional work into `out` (after configure); `traced`: a waveform or
@@ -118,8 +119,9 @@ class GppWork {
     return due <= room ? Next::retire : Next::issue;
   }
   bool has_ray() const { return !waves_.empty() || !shadow_.empty() || next_pixel_ < pixels_; }
-  // The earliest completion, or `never`.
+  // The earliest completion, or `never`, and its ray (when there is one).
   Time due(Time never) const { return completed_.empty() ? never : completed_.top().at; }
+  std::uint32_t due_ray() const { return completed_.top().ray; }
   // Ray `id`'s wave has all its answers, the last at `at`.
   void answered(Time at, std::uint32_t id) { completed_.push({at, id}); }
   struct Retired {

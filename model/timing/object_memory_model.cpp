@@ -1,5 +1,7 @@
 #include "timing/object_memory_model.h"
 
+#include "timing/transfers.h"
+
 #include <algorithm>
 
 namespace oprt::hw {
@@ -15,7 +17,7 @@ ObjectMemoryModel::ObjectMemoryModel(const Arch& arch, std::uint32_t unit)
       latency_cycles_(arch.memory.latency_cycles),
       bytes_per_cycle_(arch.memory.bytes_per_cycle),
       in_order_(arch.iu.model == IuModel::serial),
-      line_transfer_(ceil_div(arch.memory.cache.line_bytes, arch.memory.dram.bytes_per_cycle)),
+      line_transfer_(dram_line_cycles(arch)),
       dram_latency_(arch.memory.dram.latency_cycles) {}
 
 void ObjectMemoryModel::load(const MemoryLoad& l) {

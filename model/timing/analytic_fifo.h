@@ -1,0 +1,60 @@
+// The analytic level's ray FIFOs (hw/ray_fifo.h): per unit, the rays written into it and when
+// the unit popped each. A write needs room: with depth d, the pop of the ray written d writes
+// before it (`unknown` while the unit has yet to pop that ray). The peak occupancy is counted
+// over the run.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace oprt::hw {
+
+class AnalyticFifos {
+ public:
+  using Cycles = std::uint64_t;
+  static constexpr Cycles unknown = ~Cycles{0} - 1;
+
+  AnalyticFifos(std::size_t units, unsigned depth, std::vector<std::uint64_t>& peak)
+      : depth_(depth), pushes_(units, 0), pops_(depth ? units : 0), queued_(units), peak_(peak) {
+    peak_.resize(units, 0);
+  }
+
+  // When unit u's FIFO has room for one more write.
+  Cycles room(std::uint32_t u) const {
+    if (!depth_ || pushes_[u] < depth_) return 0;
+    const std::uint64_t k = pushes_[u] - depth_;
+    return k < pops_[u].size() ? pops_[u][k] : unknown;
+  }
+  bool bounded() const { return depth_ != 0; }
+  void pushed(std::uint32_t u) { ++pushes_[u]; }
+  // Unit u popped the ray that arrived at `avail`, at `start`.
+  void popped(std::uint32_t u, Cycles avail, Cycles start) {
+    peak_[u] = std::max<std::uint64_t>(peak_[u], queued_[u].occupancy_after_push(avail, start));
+    if (depth_) pops_[u].push_back(start);
+  }
+  std::uint64_t pushes(std::uint32_t u) const { return pushes_[u]; }
+
+ private:
+  // Occupancy in time: pop times of the rays still queued at the latest push. A unit pops in
+  // push order, so they only grow: a queue kept as a vector and a head.
+  struct PopTimes {
+    std::vector<Cycles> t;
+    std::size_t head = 0;
+    std::size_t occupancy_after_push(Cycles at, Cycles pop) {  // rays it holds once this one is in
+      while (head < t.size() && t[head] <= at) ++head;
+      if (head == t.size()) t.clear(), head = 0;
+      else if (head >= 1024 && 2 * head >= t.size())
+        t.erase(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(head)), head = 0;
+      t.push_back(pop);
+      return t.size() - head;
+    }
+  };
+  const unsigned depth_;
+  std::vector<std::uint64_t> pushes_;
+  std::vector<std::vector<Cycles>> pops_;
+  std::vector<PopTimes> queued_;
+  std::vector<std::uint64_t>& peak_;  // per unit, over the run
+};
+
+}  // namespace oprt::hw

@@ -1,0 +1,72 @@
+// The analytic level's GPP (hw/gpp.cpp) for one frame: the plan's order of work (GppWork) and
+// the recipe's steps (gpp_recipe.h), timed by a cycle count instead of a local clock. It is
+// the recipe's clock: it spends the GPP's cycles, writes through the bus (analytic_bus.h) to
+// the units' FIFOs (analytic_fifo.h, analytic_units.h) and collects their answers.
+//   A unit's timing for a ray depends only on rays issued before it, so each ray is timed
+// when it is issued. Under the paper's ideal architecture this is exactly the timing of
+// `at`. With a shared bus it is approximate (analytic_bus.h, analytic_units.h).
+#pragma once
+
+#include "arch/arch.h"
+#include "timing/analytic_bus.h"
+#include "timing/analytic_dram.h"
+#include "timing/analytic_fifo.h"
+#include "timing/analytic_units.h"
+#include "timing/gpp_plan.h"
+#include "timing/gpp_recipe.h"
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace oprt::hw {
+
+template <typename T>
+class AnalyticGpp final : public AnswerSink {
+ public:
+  using Cycles = std::uint64_t;
+  AnalyticGpp(GppPlan<T>& plan, const Arch& a, FrameRun& out, AnalyticBus& bus)
+      : plan_(plan), arch_(a), out_(out), bus_(bus) {}
+
+  // Connect the frame's functional work and the units that time it (after start_frame).
+  void connect(const FunctionalFrame<T>& f, AnalyticFifos& fifos, AnalyticUnits<T>& units, AnalyticDram* dram);
+  // The GPP's work in its order until every ray has retired; returns the frame's makespan.
+  Cycles run();
+
+  // The recipe's clock (gpp_recipe.h).
+  void compute(GppPhase phase, std::uint64_t cycles);
+  void load(const MemoryLoad& l);
+  void write_config(std::uint32_t, std::uint64_t bytes) { g_ = bus_.transfer(g_, bytes); }
+  void generated(std::uint32_t id) { ++out_.rays[static_cast<int>(f_->rays[id].kind)]; }
+  void routed_nowhere(std::uint32_t id) { work_->answered(g_, id); }
+  template <typename Wave>
+  void write_rays(std::uint32_t id, const Wave& wave, const RayWrites& w);
+  // An answer has left the bus (AnswerSink).
+  void answered(std::uint32_t ray, Cycles done) override;
+
+  // Set by the engine for the frame's loads (it owns the object memories).
+  std::function<void(const MemoryLoad&)> on_load;
+
+ private:
+  Cycles room_time() const;
+  void grant_until(Cycles t);
+
+  GppPlan<T>& plan_;
+  const Arch& arch_;
+  FrameRun& out_;
+  AnalyticBus& bus_;
+  const FunctionalFrame<T>* f_ = nullptr;
+  AnalyticFifos* fifos_ = nullptr;
+  AnalyticUnits<T>* units_ = nullptr;
+  AnalyticDram* dram_ = nullptr;
+  std::unique_ptr<GppWork<T, Cycles>> work_;
+  std::vector<std::uint32_t> answers_left_;
+  std::vector<Cycles> ray_done_;
+  bool simple_ = false;  // serial units, an ideal bus, on-chip memories
+  Cycles g_ = 0;         // the GPP's time
+};
+
+extern template class AnalyticGpp<float>;
+extern template class AnalyticGpp<double>;
+
+}  // namespace oprt::hw
