@@ -44,6 +44,11 @@ class AnalyticBus {
     counts_.bus_busy += occupancy;
     return calendar_.reserve(at, occupancy);
   }
+  // n transfers of `bytes` each on an ideal bus: counted, no time.
+  void count(std::uint64_t n, std::uint64_t bytes) {
+    counts_.bus_transfers += n;
+    counts_.bus_bytes += n * bytes;
+  }
   // Every later request is at or after t.
   void forget_before(Cycles t) { calendar_.forget_before(t); }
 

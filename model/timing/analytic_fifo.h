@@ -37,17 +37,22 @@ class AnalyticFifos {
 
  private:
   // Occupancy in time: pop times of the rays still queued at the latest push. A unit pops in
-  // push order, so they only grow: a queue kept as a vector and a head.
+  // push order, so they only grow: a ring of them, doubled when full.
   struct PopTimes {
-    std::vector<Cycles> t;
-    std::size_t head = 0;
+    std::vector<Cycles> t = std::vector<Cycles>(8);
+    std::size_t head = 0, size = 0;  // t.size() is a power of two
     std::size_t occupancy_after_push(Cycles at, Cycles pop) {  // rays it holds once this one is in
-      while (head < t.size() && t[head] <= at) ++head;
-      if (head == t.size()) t.clear(), head = 0;
-      else if (head >= 1024 && 2 * head >= t.size())
-        t.erase(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(head)), head = 0;
-      t.push_back(pop);
-      return t.size() - head;
+      const std::size_t mask = t.size() - 1;
+      if (pop <= at) size = 0;  // popped at once: every ray before it has left (pops come in order)
+      while (size && t[head] <= at) head = (head + 1) & mask, --size;
+      if (size == t.size()) {
+        std::vector<Cycles> bigger(2 * t.size());
+        for (std::size_t i = 0; i < size; ++i) bigger[i] = t[(head + i) & mask];
+        t.swap(bigger);
+        head = 0;
+      }
+      t[(head + size) & (t.size() - 1)] = pop;
+      return ++size;
     }
   };
   const unsigned depth_;

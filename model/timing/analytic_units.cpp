@@ -43,8 +43,7 @@ void AnalyticUnits<T>::arrive(std::uint32_t u, std::uint32_t id, Cycles avail) {
 template <typename T>
 typename AnalyticUnits<T>::Cycles AnalyticUnits<T>::arrive_everywhere(std::uint32_t id, Cycles avail) {
   const auto units = static_cast<std::uint32_t>(free_.size());
-  const std::uint64_t bytes = answer_bytes<T>(f_.rays[id].kind);
-  for (std::uint32_t u = 0; u < units; ++u) bus_.transfer(0, bytes);  // counted; an ideal bus takes no time
+  bus_.count(units, answer_bytes<T>(f_.rays[id].kind));  // the answers: an ideal bus takes no time
   Cycles done_all = 0;
   for (std::uint32_t u = 0; u < units; ++u) {
     const Cycles start = std::max(free_[u], avail);

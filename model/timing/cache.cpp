@@ -21,6 +21,10 @@ std::uint64_t* Cache::access(std::uint64_t line, bool& hit) {
       return &set[w].ready;
     }
   hit = false;
+  return allocate(set, line);
+}
+
+std::uint64_t* Cache::allocate(Way* set, std::uint64_t line) {
   // The victim: an empty way first (lowest), else by the policy.
   Way* victim = nullptr;
   for (std::uint32_t w = 0; w < ways_ && !victim; ++w)

@@ -42,6 +42,24 @@ class Cache {
   // it was held. On a miss the line is allocated (a way of its set evicted) and the caller
   // writes the arrival of its fill into the slot. The slot is valid until the next access.
   std::uint64_t* access(std::uint64_t line, bool& hit);
+  // A burst's lines [first, last], in order, in one step: each(line, slot, hit) for each, as
+  // access() would give them (a hit is found in the set without a call; a miss allocates).
+  template <typename Each>
+  void access_lines(std::uint64_t first, std::uint64_t last, Each&& each) {
+    for (std::uint64_t line = first; line <= last; ++line) {
+      ++clock_;
+      Way* set = &way_[(set_mask_ != kNoMask ? line & set_mask_ : line % sets_) * ways_];
+      Way* held = nullptr;
+      for (std::uint32_t w = 0; w < ways_ && !held; ++w)
+        if (set[w].tag == line) held = &set[w];
+      if (held) {
+        if (replacement_ == CacheReplacement::lru) held->stamp = clock_;
+        each(line, &held->ready, true);
+      } else {
+        each(line, allocate(set, line), false);
+      }
+    }
+  }
   // Drop every line in [first, end) (geometry rewritten in DRAM: deforming objects).
   void invalidate(std::uint64_t first, std::uint64_t end);
   // Every fill has arrived (between frames, where the analytic level's time restarts at 0).
@@ -50,6 +68,8 @@ class Cache {
   }
 
  private:
+  struct Way;
+  std::uint64_t* allocate(Way* set, std::uint64_t line);  // a miss: a way of the set for `line`
   struct Way {
     std::uint64_t tag = ~std::uint64_t{0};  // the line held; ~0: empty
     std::uint64_t ready = 0;

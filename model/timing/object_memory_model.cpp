@@ -87,9 +87,7 @@ Cycle ObjectMemoryModel::visit(const VisitStream& v, Cycle request, BurstConsume
       const std::uint64_t first = burst.address >> shift;
       const std::uint64_t last = (burst.address + std::uint64_t{n} * burst.item_bytes - 1) >> shift;
       line_ready_.resize(last - first + 1);
-      for (std::uint64_t l = first; l <= last; ++l) {
-        bool hit = false;
-        std::uint64_t* slot = cache_.access(l, hit);
+      cache_.access_lines(first, last, [&](std::uint64_t l, std::uint64_t* slot, bool hit) {
         Cycle ready;
         if (hit) {
           ++counts_.hits;
@@ -100,7 +98,7 @@ Cycle ObjectMemoryModel::visit(const VisitStream& v, Cycle request, BurstConsume
           *slot = static_cast<std::uint64_t>(ready);
         }
         line_ready_[l - first] = ready;
-      }
+      });
       std::uint64_t address = burst.address;
       for (std::uint32_t j = 0; j < n; ++j, address += burst.item_bytes) {
         const std::uint64_t lo = (address >> shift) - first, hi = ((address + burst.item_bytes - 1) >> shift) - first;
