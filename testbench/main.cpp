@@ -20,6 +20,7 @@
 #include <iostream>
 #include <unistd.h>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,28 +68,42 @@ void start_on_huge_pages(char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  start_on_huge_pages(argv);
-  using namespace oprt;
+namespace {
+
+// The command line: one subcommand per command, each with its options and the numbers they
+// take (Numbers), read into the options each command runs with.
+struct CommandLine {
   CLI::App app{"oprt: a SystemC/TLM-2.0 model of an object-parallel ray-tracing engine for animated scenes"};
-  app.require_subcommand(1);
-  CommonOptions opt;
+  oprt::CommonOptions opt;
+  oprt::RenderOptions info_arch;  // with any of --arch, --ius, --balance, --locality: the assignment too
+  oprt::RenderOptions ro;
+  std::string compare_image, compare_reference;
   Numbers numbers;
   int threads = 0;  // 0: every core
-  auto add_threads = [&](CLI::App* sub) {
+  CLI::App *info = nullptr, *ref = nullptr, *compare = nullptr, *render = nullptr;
+  const std::string max_memory_help =
+      "refuse a run whose estimated memory is more than BYTES (64M, 2G, 1.5T; default: the memory available)";
+
+  CommandLine() {
+    app.require_subcommand(1);
+    add_info();
+    add_reference();
+    add_compare();
+    add_render();
+  }
+
+  void add_threads(CLI::App* sub) {
     numbers.count(sub, "--threads", 1, 4096, "threads for the functional work (default: every core)",
-                  [&threads](std::uint64_t n) { threads = static_cast<int>(n); });
-  };
-  auto add_subdivide = [&](CLI::App* sub, auto& target) {
+                  [this](std::uint64_t n) { threads = static_cast<int>(n); });
+  }
+  void add_subdivide(CLI::App* sub, int& target) {
     numbers.count(sub, "--subdivide", 1, 4096, "split each object's sphere into K",
                   [&target](std::uint64_t n) { target = static_cast<int>(n); });
-  };
-  auto add_scene = [&](CLI::App* sub) {
-    sub->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)")->required();
-  };
+  }
+  void add_scene(CLI::App* sub) { sub->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)")->required(); }
   // How a BART .aff scene becomes objects (docs/aff.md).
-  auto add_load_options = [&](CLI::App* sub, LoadOptions& load, std::string& split,
-                              std::optional<std::size_t>& max_object_triangles) {
+  void add_load_options(CLI::App* sub, oprt::LoadOptions& load, std::string& split,
+                        std::optional<std::size_t>& max_object_triangles) {
     sub->add_option("--split", split,
                     "count | extent: how objects become spheres (default: extent for .aff and glTF, count for .json)")
         ->check(CLI::IsMember({"count", "extent"}));
@@ -101,25 +116,32 @@ int main(int argc, char** argv) {
                     load.aff.sphere_segments = load.aff.cone_segments = static_cast<unsigned>(n);
                     load.aff.sphere_rings = static_cast<unsigned>(n / 2);
                   });
-  };
-  const std::string max_memory_help =
-      "refuse a run whose estimated memory is more than BYTES (64M, 2G, 1.5T; default: the memory available)";
-  auto* info = app.add_subcommand("info", "print the scene, its bounding spheres and their SA x N");
+  }
+  void add_info();
+  void add_reference();
+  void add_compare();
+  void add_render();
+  void add_render_outputs();
+};
+
+void CommandLine::add_info() {
+  info = app.add_subcommand("info", "print the scene, its bounding spheres and their SA x N");
   info->add_option("SCENE", opt.scene, "scene file (.json, .aff, .gltf, .glb)");
   info->add_flag("--schedules", opt.schedules, "print the IU operations' cycle schedules");
-  RenderOptions info_arch;  // with any of --arch, --ius, --balance, --locality: the assignment too
   add_subdivide(info, info_arch.subdivide);
   info->add_option("--arch", info_arch.arch_file, "architecture file (JSON, oprt-arch/1)");
   numbers.count(info, "--ius", 1, 65536, "number of intersection units",
-                [&info_arch](std::uint64_t n) { info_arch.ius = static_cast<int>(n); });
+                [this](std::uint64_t n) { info_arch.ius = static_cast<int>(n); });
   info->add_option("--balance", info_arch.balance, "paper | round_robin | sa_n | spatial | feedback | view (frame 0)")
       ->check(CLI::IsMember({"paper", "round_robin", "sa_n", "spatial", "feedback", "view"}));
   info->add_option("--locality", info_arch.locality, "spatial, feedback: tight unit bounds (1) against balance (0)");
   info->add_option("--accel", info_arch.accel, "brute | bvh: what the sa_n cost estimate assumes inside a sphere")
       ->check(CLI::IsMember({"brute", "bvh"}));
   add_load_options(info, opt.load, opt.split, opt.max_object_triangles);
+}
 
-  auto* ref = app.add_subcommand("reference", "render with the untimed functional reference");
+void CommandLine::add_reference() {
+  ref = app.add_subcommand("reference", "render with the untimed functional reference");
   add_scene(ref);
   ref->add_option("--precision", opt.precision, "float | double")->check(CLI::IsMember({"float", "double"}));
   ref->add_option("--kernel", opt.kernel, "moller | watertight")->check(CLI::IsMember({"moller", "watertight"}));
@@ -131,19 +153,21 @@ int main(int argc, char** argv) {
   ref->add_option("--max-memory", opt.max_memory, max_memory_help);
   add_threads(ref);
   add_load_options(ref, opt.load, opt.split, opt.max_object_triangles);
+}
 
-  std::string compare_image, compare_reference;
-  auto* compare = app.add_subcommand("compare", "print how far a frame is from a reference frame (JSON)");
+void CommandLine::add_compare() {
+  compare = app.add_subcommand("compare", "print how far a frame is from a reference frame (JSON)");
   compare->add_option("IMAGE", compare_image, "frame_NNNN.exr to judge")->required();
   compare->add_option("REFERENCE", compare_reference, "frame_NNNN.exr of the same size to judge it against")->required();
   add_threads(compare);
+}
 
-  RenderOptions ro;
-  auto* render = app.add_subcommand("render", "render with the timed SystemC model");
+void CommandLine::add_render() {
+  render = app.add_subcommand("render", "render with the timed SystemC model");
   render->add_option("SCENE", ro.scene, "scene file")->required();
   render->add_option("--arch", ro.arch_file, "architecture file (JSON, oprt-arch/1)");
   numbers.count(render, "--ius", 1, 65536, "number of intersection units",
-                [&ro](std::uint64_t n) { ro.ius = static_cast<int>(n); });
+                [this](std::uint64_t n) { ro.ius = static_cast<int>(n); });
   render->add_option("--frames", ro.frames, "N or A:B (inclusive); default: every frame");
   render->add_option("--level", ro.level, "at | lt | analytic")->check(CLI::IsMember({"at", "lt", "analytic"}));
   render->add_option("--quantum", ro.quantum, "temporal-decoupling quantum for lt, e.g. 1us");
@@ -167,6 +191,11 @@ int main(int argc, char** argv) {
   render->add_option("--iu", ro.iu, "serial | pipelined: the intersection unit's microarchitecture")
       ->check(CLI::IsMember({"serial", "pipelined"}));
   render->add_option("--tech", ro.tech, "technology table for area and energy (default: the built-in testbench/tech/65nm.json)");
+  add_render_outputs();
+}
+
+// What a render writes, and the tracing, progress and checking options.
+void CommandLine::add_render_outputs() {
   render->add_option("--resolution", ro.resolution, "WxH; default: the scene's");
   render->add_option("--out", ro.out, "output directory");
   render->add_option("--vcd", ro.vcd, "write a waveform trace to this file: VCD, or GTKWave's FST if it ends in .fst");
@@ -179,7 +208,7 @@ int main(int argc, char** argv) {
   numbers.count(render, "--trace-buffer", 1, std::uint64_t{1} << 32,
                 "value changes the --vcd writer may hold ahead of simulation time before units running ahead wait "
                 "(default 131072, 16 bytes each)",
-                [&ro](std::uint64_t n) { ro.trace_buffer = static_cast<std::size_t>(n); });
+                [this](std::uint64_t n) { ro.trace_buffer = static_cast<std::size_t>(n); });
   render->add_option("--max-memory", ro.max_memory, max_memory_help);
   render->add_flag("!--no-progress", ro.progress, "no progress bar");
   render->add_flag("--check", ro.check,
@@ -187,23 +216,30 @@ int main(int argc, char** argv) {
                    "and render nothing (exit 0, or 2 with the message)");
   add_threads(render);
   add_load_options(render, ro.load, ro.split, ro.max_object_triangles);
+}
 
+}  // namespace
+
+int main(int argc, char** argv) {
+  start_on_huge_pages(argv);
+  using namespace oprt;
+  CommandLine c;
   try {
-    app.parse(argc, argv);
+    c.app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
+    return c.app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "oprt: " << e.what() << "\n";
     return 2;
   }
   install_stop_handlers();
   try {
-    numbers.run();
-    set_thread_count(threads);
-    if (*info) return run_info(opt, info_arch);
-    if (*ref) return run_reference(opt);
-    if (*render) return run_render(ro);
-    if (*compare) return run_compare(compare_image, compare_reference);
+    c.numbers.run();
+    set_thread_count(c.threads);
+    if (*c.info) return run_info(c.opt, c.info_arch);
+    if (*c.ref) return run_reference(c.opt);
+    if (*c.render) return run_render(c.ro);
+    if (*c.compare) return run_compare(c.compare_image, c.compare_reference);
   } catch (const InputError& e) {
     std::cerr << "oprt: " << e.what() << "\n";
     return 2;

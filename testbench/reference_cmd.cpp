@@ -82,8 +82,7 @@ int reference(const CommonOptions& o, const Scene& scene, const OutputPlan& outp
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::string exr = (std::filesystem::path(o.out) / frame_name(f, "exr")).string();
-    write_exr(exr, r.image);
-    write_png((std::filesystem::path(o.out) / frame_name(f, "png")).string(), r.image);
+    write_frame_files(exr, (std::filesystem::path(o.out) / frame_name(f, "png")).string(), r.image);
     const std::uint64_t rays = r.work.rays[0] + r.work.rays[1];
     nlohmann::json per_object = nlohmann::json::array();
     for (std::size_t obj = 0; obj < scene.objects.size(); ++obj) {

@@ -155,14 +155,25 @@ void write_png(const std::string& path, const FrameImage& img) {
     const double c = std::clamp(static_cast<double>(x), 0.0, 1.0);
     return static_cast<unsigned char>(std::lround(std::pow(c, 1 / 2.2) * 255));
   };
-  for (std::size_t i = 0; i < img.size(); ++i) {
-    rgb[3 * i] = encode(img.r[i]);
-    rgb[3 * i + 1] = encode(img.g[i]);
-    rgb[3 * i + 2] = encode(img.b[i]);
-  }
+  parallel_chunks(img.size(), 1 << 14, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      rgb[3 * i] = encode(img.r[i]);
+      rgb[3 * i + 1] = encode(img.g[i]);
+      rgb[3 * i + 2] = encode(img.b[i]);
+    }
+  });
   write_atomically(path, [&](const std::string& tmp) {
     if (!stbi_write_png(tmp.c_str(), img.width, img.height, 3, rgb.data(), img.width * 3))
       throw std::runtime_error("cannot write " + path);
+  });
+}
+
+// Both at once: the PNG's deflate is one thread's work, the EXR's blocks are compressed on
+// OpenEXR's pool beside it.
+void write_frame_files(const std::string& exr, const std::string& png, const FrameImage& img) {
+  parallel_chunks(2, 1, [&](std::size_t c, std::size_t, std::size_t) {
+    if (c == 0) write_exr(exr, img);
+    else write_png(png, img);
   });
 }
 

@@ -28,6 +28,8 @@ void write_exr(const std::string& path, const FrameImage& img);
 FrameImage read_exr(const std::string& path);
 // sRGB-ish preview: clamp to [0, 1], gamma 2.2.
 void write_png(const std::string& path, const FrameImage& img);
+// The frame's EXR and PNG, written side by side on the pool.
+void write_frame_files(const std::string& exr, const std::string& png, const FrameImage& img);
 
 // Write `path` through `write(tmp)`: the temporary is renamed to `path` only if write
 // returns normally; on an exception it is removed. Throws std::runtime_error on I/O failure.
