@@ -96,7 +96,8 @@ struct CommandLine {
     numbers.count(sub, "--threads", 1, 4096, "threads for the functional work (default: every core)",
                   [this](std::uint64_t n) { threads = static_cast<int>(n); });
   }
-  void add_subdivide(CLI::App* sub, int& target) {
+  template <typename Target>  // int, or std::optional<int> where absent means "as the file says"
+  void add_subdivide(CLI::App* sub, Target& target) {
     numbers.count(sub, "--subdivide", 1, 4096, "split each object's sphere into K",
                   [&target](std::uint64_t n) { target = static_cast<int>(n); });
   }
