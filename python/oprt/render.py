@@ -23,10 +23,10 @@ def child_env(extra=None):
     return dict(os.environ, SYSTEMC_DISABLE_COPYRIGHT_MESSAGE="1", **(extra or {}))
 
 
-def die_with_parent(sig=signal.SIGKILL):
+def die_with_parent(sig=signal.SIGKILL, parent=None):
     """A preexec_fn: the child gets `sig` when the process that forks it ends. Call it in the
-    parent (it notes the parent's pid), pass the result as Popen's preexec_fn."""
-    parent = os.getpid()
+    parent (it notes the parent's pid, or takes `parent`), pass the result as Popen's preexec_fn."""
+    parent = parent or os.getpid()
 
     def in_child():
         try:

@@ -72,7 +72,6 @@ def parse_args(argv, doc):
     return ap, ap.parse_args(argv)
 
 
-
 def main(argv=None, doc="", script=None):
     """scripts/explore: `doc` is its usage text, `script` its path (for the Slurm job's commands).
     Returns the exit status."""

@@ -4,7 +4,6 @@ import json
 import os
 
 
-
 FORMAT = "oprt-space/1"
 RUN_FORMAT = "oprt-explore/1"
 

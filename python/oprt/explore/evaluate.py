@@ -93,7 +93,6 @@ def oprt_message(log_text, arch_file=None):
     return msg
 
 
-
 def number_paths(node, prefix=""):
     """Dotted paths of the numbers in a JSON object (not inside lists)."""
     out = []
@@ -104,7 +103,6 @@ def number_paths(node, prefix=""):
         elif is_number(v):
             out.append(path)
     return out
-
 
 
 # ----------------------------------------------------------------------------- one evaluation

@@ -11,8 +11,8 @@ import time
 from .. import render
 from ..values import show
 from .common import OBJECTIVES, PATH_PARAMS, SpaceError, UsageError, config_key
-from .evaluate import number_paths, oprt_message
 from ..render import child_env
+from .evaluate import number_paths, oprt_message
 
 
 # ----------------------------------------------------------------- checking a space with oprt
@@ -113,7 +113,8 @@ def probe_space(space, oprt, jobs, file):
                 json.dump(doc, f)
             r = subprocess.run([oprt.binary, "render", space.scene_files[0], "--arch", arch, "--level", "analytic",
                                 "--frames", space.first_frame, "--resolution", "1x1", "--out", d, "--no-progress",
-                                "--threads", "1"], capture_output=True, text=True, env=child_env())
+                                "--threads", "1"], capture_output=True, text=True, env=child_env(),
+                               preexec_fn=render.die_with_parent())
             if r.returncode == 0:
                 oprt.foldable.add(name)
         keys = set()
@@ -125,7 +126,6 @@ def probe_space(space, oprt, jobs, file):
         return keys
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-
 
 
 def check_constraint_keys(space, keys, file):

@@ -94,7 +94,6 @@ def repair_journal(path):
             print(f"explore: cut a half-written last entry from {path}", file=sys.stderr)
 
 
-
 def load_reused(optuna, folder, space):
     manifest = os.path.join(folder, "explore.json")
     if not os.path.isfile(manifest):
