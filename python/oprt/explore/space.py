@@ -12,6 +12,8 @@ from .common import FORMAT, OBJECTIVES, RESERVED, PATH_PARAMS, SPACE_KEYS, Space
 
 
 # ---------------------------------------------------------------------------------- the space
+
+
 class Param:
     """One parameter: kind 'int' / 'float' (lo, hi, log), 'choice' (values) or 'fixed' (value)."""
 
@@ -153,23 +155,25 @@ def _scenes(s, doc, file):
             except SpecError:
                 count = None  # oprt says what is wrong with it (the probe)
         frame_counts.append(count if is_integer(count) else None)
-    s.frames = None
-    if "frames" in doc:
-        try:
-            s.frames = check_value("frames", doc["frames"], file, "/frames")
-        except SpecError as e:
-            raise SpaceError(file, "/frames", str(e).split(": ", 2)[-1])
+    s.frames = _text_value(doc, "frames", file)
+    if s.frames:
         last = int(s.frames.split(":")[-1])
         for scene, count in zip(scenes, frame_counts):
             if count is not None and last >= count:
                 raise SpaceError(file, "/frames", f"frames {s.frames}: {scene} has frames 0:{count - 1} only")
     s.first_frame = s.frames.split(":")[0] if s.frames else "0"
-    s.resolution = None
-    if "resolution" in doc:
-        try:
-            s.resolution = check_value("resolution", doc["resolution"], file, "/resolution")
-        except SpecError as e:
-            raise SpaceError(file, "/resolution", str(e).split(": ", 2)[-1])
+    s.resolution = _text_value(doc, "resolution", file)
+
+
+def _text_value(doc, key, file):
+    """The space's "frames" or "resolution" as oprt takes it (text), or None where not given."""
+    if key not in doc:
+        return None
+    try:
+        return check_value(key, doc[key], file, f"/{key}")
+    except SpecError as e:
+        raise SpaceError(file, f"/{key}", str(e).split(": ", 2)[-1])
+
 
 def _base_arch(s, doc, file):
     """The base architecture: a file (relative to the space) or an inline oprt-arch/1 object."""
@@ -188,6 +192,7 @@ def _base_arch(s, doc, file):
             raise SpaceError(file, "/arch", "expected an architecture file name or an oprt-arch/1 object")
         s.base_arch = copy.deepcopy(arch)
         s.base_arch.setdefault("format", "oprt-arch/1")
+
 
 def _parameters(s, doc, file):
     """The parameters, each a name oprt takes and a domain."""
@@ -215,6 +220,7 @@ def _parameters(s, doc, file):
     for a, b in itertools.permutations(s.params, 2):
         if b.name.startswith(a.name + ".") and "." in a.name:
             raise SpaceError(file, b.where, f"{b.name} is inside {a.name}, which is a parameter itself")
+
 
 def _objectives(s, doc, file):
     """The objectives, the bounds (constraints) and NSGA-II's generation size."""
@@ -252,6 +258,7 @@ def _objectives(s, doc, file):
     if s.population is not None and not (is_integer(s.population) and s.population >= 2):
         raise SpaceError(file, "/population", f"expected an integer >= 2 (NSGA-II's generation), found {json.dumps(s.population)}")
 
+
 def _references(s, doc, file):
     """Reference configurations: marked on the plots, compared in the summary; the first one also
     fixes the hypervolume's reference point where no bound does."""
@@ -275,6 +282,7 @@ def _references(s, doc, file):
             if k in PATH_PARAMS and not os.path.isfile(os.path.join(s.dir, str(v))):
                 raise SpaceError(file, f"{where}/{k}", f"{k}: no file {os.path.join(s.dir, str(v))}")
         s.references.append((name, dict(ref)))
+
 
 def _start(s, doc, file):
     """Configurations the search evaluates first (known designs: Optuna's enqueue_trial), each
@@ -304,6 +312,7 @@ def _start(s, doc, file):
             if not ok:
                 raise SpaceError(file, f"{where}/{p.name}", f"{show(v)} is not in {p.name}'s domain {p.describe()}")
         s.start.append(dict(point))
+
 
 def _hashes(s, doc, file):
     """The given reference point, and the hashes that tell searches and evaluations apart."""
