@@ -82,6 +82,21 @@ void write_atomically(const std::string& path, const std::function<void(const st
   }
 }
 
+namespace {
+// Below this many pixels an image is written on the calling thread: handing it to the pool
+// (parallel_chunks starts a thread per call, and each thread may take a malloc arena of its
+// own) costs more than it saves, and a run of tiny frames would grow its memory.
+constexpr std::size_t kParallelPixels = std::size_t{1} << 16;
+int exr_threads() {
+  static const int threads = [] {
+    const int n = thread_count();
+    if (n > 1) Imf::setGlobalThreadCount(n);
+    return n > 1 ? n : 0;
+  }();
+  return threads;
+}
+}  // namespace
+
 void write_exr(const std::string& path, const FrameImage& img) {
   write_atomically(path, [&](const std::string& tmp) {
     Imf::Header header(img.width, img.height);
@@ -101,11 +116,7 @@ void write_exr(const std::string& path, const FrameImage& img) {
     fb.insert("primId", Imf::Slice(Imf::UINT, (char*)img.prim.data(), us, us * img.width));
     // OpenEXR compresses the file's blocks of scanlines on its own thread pool, as many
     // threads as the functional work may use (the bytes do not depend on how many).
-    static const int threads = [] {
-      const int n = thread_count();
-      if (n > 1) Imf::setGlobalThreadCount(n);
-      return n > 1 ? n : 0;
-    }();
+    const int threads = img.size() < kParallelPixels ? 0 : exr_threads();
     Imf::OutputFile file(tmp.c_str(), header, threads);
     file.setFrameBuffer(fb);
     file.writePixels(img.height);
@@ -151,17 +162,19 @@ FrameImage read_exr(const std::string& path) {
 
 void write_png(const std::string& path, const FrameImage& img) {
   std::vector<unsigned char> rgb(img.size() * 3);
-  auto encode = [](float x) {
+  auto gamma = [](float x) {
     const double c = std::clamp(static_cast<double>(x), 0.0, 1.0);
     return static_cast<unsigned char>(std::lround(std::pow(c, 1 / 2.2) * 255));
   };
-  parallel_chunks(img.size(), 1 << 14, [&](std::size_t, std::size_t begin, std::size_t end) {
+  auto encode = [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      rgb[3 * i] = encode(img.r[i]);
-      rgb[3 * i + 1] = encode(img.g[i]);
-      rgb[3 * i + 2] = encode(img.b[i]);
+      rgb[3 * i] = gamma(img.r[i]);
+      rgb[3 * i + 1] = gamma(img.g[i]);
+      rgb[3 * i + 2] = gamma(img.b[i]);
     }
-  });
+  };
+  if (img.size() < kParallelPixels) encode(0, 0, img.size());
+  else parallel_chunks(img.size(), 1 << 14, encode);
   write_atomically(path, [&](const std::string& tmp) {
     if (!stbi_write_png(tmp.c_str(), img.width, img.height, 3, rgb.data(), img.width * 3))
       throw std::runtime_error("cannot write " + path);
@@ -171,6 +184,11 @@ void write_png(const std::string& path, const FrameImage& img) {
 // Both at once: the PNG's deflate is one thread's work, the EXR's blocks are compressed on
 // OpenEXR's pool beside it.
 void write_frame_files(const std::string& exr, const std::string& png, const FrameImage& img) {
+  if (img.size() < kParallelPixels) {
+    write_exr(exr, img);
+    write_png(png, img);
+    return;
+  }
   parallel_chunks(2, 1, [&](std::size_t c, std::size_t, std::size_t) {
     if (c == 0) write_exr(exr, img);
     else write_png(png, img);
