@@ -7,7 +7,7 @@ namespace oprt::hw {
 
 using namespace sc_core;
 
-Dram::Dram(const sc_module_name& name, const Arch& arch, std::size_t units)
+Dram::Dram(const sc_module_name& name, const Arch& arch, std::size_t units, std::uint64_t base)
     : sc_module(name),
       in("in"),
       cycle_(arch.cycle_ns(), SC_NS),
@@ -15,6 +15,7 @@ Dram::Dram(const sc_module_name& name, const Arch& arch, std::size_t units)
       transfer_(cycle_ * static_cast<double>((arch.memory.cache.line_bytes + arch.memory.dram.bytes_per_cycle - 1) /
                                              arch.memory.dram.bytes_per_cycle)),
       units_per_channel_(static_cast<std::uint32_t>(arch.memory.dram.units_per_channel)),
+      base_(base),
       channels_((units + units_per_channel_ - 1) / units_per_channel_ + 1) {
   in.register_b_transport(this, &Dram::b_transport);
 }
@@ -26,7 +27,8 @@ void Dram::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
     return;
   }
   const std::size_t channel = f->unit / units_per_channel_;
-  if (p.get_command() != tlm::TLM_READ_COMMAND || channel >= channels_.size() || p.get_address() >= addr::dram_size) {
+  if (p.get_command() != tlm::TLM_READ_COMMAND || channel >= channels_.size() || p.get_address() < base_ ||
+      p.get_address() - base_ >= addr::dram_size) {
     p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
     return;
   }
