@@ -15,14 +15,17 @@
 //   ObjectMemory[i].fill --> Engine.fills; Engine.mem --> the platform's memory   ("external")
 //
 // The memory port `mem` (memory.dram.path "external"): the object memories' cache line fills
-// leave the engine there, one blocking TLM read per line, in time order (the units
-// synchronise before each miss): data_length memory.cache.line_bytes, address
-// addr::dram_base + the line's address in the scene's geometry
-// (docs/architecture-format.md, "Addresses"), a FillExtension naming the unit. The target
-// adds its latency to the annotated delay: the line is in the object memory when the
-// delay it returns has passed. Bind it before simulation starts whenever
-// memory.sram_bytes is set; the oprt command binds its own DRAM model (hw/dram.h) there.
-// Other paths leave it unbound.
+// leave the engine there, one blocking TLM read per line: data_length
+// memory.cache.line_bytes, address addr::dram_base + the line's address in the scene's
+// geometry (docs/architecture-format.md, "The memory port"), a FillExtension naming the
+// unit. The target adds its latency to the annotated delay: the line is in the object
+// memory when the delay it returns has passed. A request is made at sc_time_stamp() + its
+// delay; requests reach the port in time order only where the units synchronise before each
+// miss (serial units with memory.dram.units_per_channel > 1, as for shared channels); a
+// memory that arbitrates between units otherwise orders them itself, as hw/dram.h does with
+// a calendar per channel. Bind it before
+// simulation starts whenever memory.sram_bytes is set; the oprt command binds its own DRAM
+// model (hw/dram.h) there. Other paths leave it unbound.
 #pragma once
 
 #include "balance/assign.h"
