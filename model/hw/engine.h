@@ -23,9 +23,9 @@
 // delay; requests reach the port in time order only where the units synchronise before each
 // miss (serial units with memory.dram.units_per_channel > 1, as for shared channels); a
 // memory that arbitrates between units otherwise orders them itself, as hw/dram.h does with
-// a calendar per channel. Bind it before
-// simulation starts whenever memory.sram_bytes is set; the oprt command binds its own DRAM
-// model (hw/dram.h) there. Other paths leave it unbound.
+// a calendar per channel. Bind it before simulation starts whenever memory.sram_bytes is
+// set; the oprt command binds its own DRAM model (hw/dram.h) there. Other paths leave it
+// unbound.
 #pragma once
 
 #include "balance/assign.h"
