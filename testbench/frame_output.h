@@ -3,7 +3,7 @@
 #pragma once
 
 #include "timing/analytic.h"
-#include "testbench.h"
+#include "render_job.h"
 
 namespace oprt {
 

@@ -182,9 +182,28 @@ void OutputPlan::check() const {
 }
 
 void OutputPlan::create_folders() const {
+  // The folders this call creates, outermost first: removed again if a later one fails, so
+  // that a refused run leaves nothing behind.
+  std::vector<fs::path> created;
   for (const Output& o : outputs_) {
     const fs::path folder = o.folder ? fs::path(o.path) : fs::path(o.path).parent_path();
-    if (!folder.empty()) fs::create_directories(folder);
+    if (folder.empty()) continue;
+    std::error_code ec;
+    fs::path outermost;
+    for (fs::path p = folder; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+      outermost = p;
+      if (p.parent_path() == p) break;
+    }
+    // check() saw a folder that can be written above the missing ones; creating them can
+    // still fail where permissions say nothing (a file system that refuses new folders,
+    // such as /proc, even to root): bad input too, named by its option.
+    fs::create_directories(folder, ec);
+    if (ec) {
+      const std::string why = ec.message();
+      for (auto c = created.rbegin(); c != created.rend(); ++c) fs::remove_all(*c, ec);
+      throw InputError(o.option, o.path, "cannot create the folder " + folder.string() + ": " + why);
+    }
+    if (!outermost.empty()) created.push_back(outermost);
   }
 }
 

@@ -26,7 +26,8 @@ class OutputPlan {
   // asked. Reads the file system only (stat, access, and the listing of an existing --out).
   void check() const;
 
-  // Creates the output folders (after check()).
+  // Creates the output folders (after check()); throws InputError(option, path, problem)
+  // for one that cannot be created.
   void create_folders() const;
 
  private:

@@ -43,6 +43,12 @@ class Testbench : public sc_module {
     engine_ = std::make_unique<hw::Engine<T>>("engine", *job.scene, geometry, job.arch, job.assignment.units(),
                                               vcd_.get(), timeline_.get());
     engine_->assign(job.assignment);
+    // memory.dram.path "external": the engine's memory port gets oprt's own DRAM model, with
+    // the figures of "channel" (the same channels, latency and rate; tests/golden).
+    if (engine_->memory_port_used()) {
+      memory_ = std::make_unique<hw::Dram>("dram", job.arch, job.assignment.units(), hw::addr::dram_base);
+      engine_->mem.bind(memory_->in);
+    }
     policy_ = std::make_unique<PolicyDriver<T>>(*job.scene, geometry, job.arch, job.assignment, job.width, job.height);
     if (job.progress)
       engine_->gpp().on_progress([this](std::uint64_t done, std::uint64_t total) { progress(done, total); });
@@ -241,6 +247,7 @@ class Testbench : public sc_module {
   std::unique_ptr<VcdWriter> vcd_;
   std::unique_ptr<TimelineWriter> timeline_;
   std::unique_ptr<hw::Engine<T>> engine_;
+  std::unique_ptr<hw::Dram> memory_;  // behind the engine's memory port ("external")
   std::unique_ptr<StatsWriter> stats_;
   std::unique_ptr<PolicyDriver<T>> policy_;
   std::optional<hw::FrameRun> previous_;

@@ -3,40 +3,14 @@
 // complete, and collects the image, the per-unit cycles and the trace.
 #pragma once
 
-#include "balance/assign.h"
 #include "hw/engine.h"
-#include "options.h"
-#include "run_cost.h"
-#include "stats.h"
-#include "trace_select.h"
+#include "render_job.h"
 
 #include <chrono>
-#include <exception>
 #include <functional>
 #include <memory>
-#include <string>
 
 namespace oprt {
-
-struct RenderJob {
-  const Scene* scene = nullptr;
-  Arch arch;
-  FrameRange frames;
-  int width = 0, height = 0;
-  std::string out_dir, vcd_path, timeline_path;
-  TraceSelection trace;  // what --vcd and --timeline hold
-  std::size_t trace_budget = VcdWriter::kDefaultBudget;  // changes the waveform writer may buffer
-  Assignment assignment;
-  bool progress = false;
-  nlohmann::json header;  // resolved configuration, for stats.json
-  std::shared_ptr<RunCost> cost;  // area and energy (a technology table)
-  int completed = 0;      // frames written
-  std::exception_ptr error;  // what stopped the simulation thread, if anything
-  bool write_files = true;   // frames and stats into out_dir
-  bool keep_results = false; // keep every frame's image and stats in memory (tests)
-  std::vector<FrameStats> results;
-  std::vector<FrameImage> images;
-};
 
 // Build the engine for `job` and run every frame; returns when done. Must be called where
 // SystemC may elaborate (sc_main). Throws on failure.

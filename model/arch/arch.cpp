@@ -21,7 +21,9 @@ const char* to_string(MemoryModel m) { return m == MemoryModel::ideal ? "ideal" 
 const char* to_string(CacheReplacement r) {
   return r == CacheReplacement::lru ? "lru" : r == CacheReplacement::fifo ? "fifo" : "random";
 }
-const char* to_string(DramPath p) { return p == DramPath::channel ? "channel" : "bus"; }
+const char* to_string(DramPath p) {
+  return p == DramPath::channel ? "channel" : p == DramPath::bus ? "bus" : "external";
+}
 const char* to_string(IuModel m) { return m == IuModel::serial ? "serial" : "pipelined"; }
 
 double parse_time_ns(const std::string& text, const std::string& what) {
@@ -209,7 +211,7 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
       a.memory.dram.units_per_channel =
           static_cast<int>(d->integer_or("units_per_channel", a.memory.dram.units_per_channel, 1, 65536));
       if (auto v = d->find("path"))
-        a.memory.dram.path = choose<DramPath>(*v, {{"channel", DramPath::channel}, {"bus", DramPath::bus}});
+        a.memory.dram.path = choose<DramPath>(*v, {{"channel", DramPath::channel}, {"bus", DramPath::bus}, {"external", DramPath::external}});
     }
     check_sram(a, file, "/memory/sram_bytes");
   }

@@ -25,8 +25,11 @@ enum class BusModel { ideal, shared };
 enum class LtArbitration { sync, calendar, busy_until };
 enum class MemoryModel { ideal, latency };
 enum class CacheReplacement { lru, fifo, random };
-// Where a unit's cache misses go: its DRAM channel directly, or over the shared bus to it.
-enum class DramPath { channel, bus };
+// Where a unit's cache misses go: its DRAM channel directly, over the shared bus to it, or
+// out of the engine through its memory port (hw/engine.h `mem`) to a memory the platform
+// binds there (the oprt command binds its own DRAM model, hw/dram.h: the figures of
+// `channel`).
+enum class DramPath { channel, bus, external };
 enum class Level { at, lt, analytic };
 // The intersection unit's microarchitecture: the paper's (one adder, one multiplier, one
 // operation at a time) or a pipeline of a sphere unit, a transform unit and a triangle unit

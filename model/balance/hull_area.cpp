@@ -1,5 +1,9 @@
 #include "balance/hull_area.h"
 
+#include "geom/bounding_sphere.h"
+
+#include <algorithm>
+
 #include <cstdio>
 
 extern "C" {
@@ -31,6 +35,17 @@ std::optional<double> convex_hull_area(const std::vector<Vec3d>& points) {
   qh_memfreeshort(qh, &curlong, &totlong);
   if (quiet) std::fclose(quiet);
   return area;
+}
+
+double scene_hull_area(const Scene& scene) {
+  std::vector<Vec3d> points;
+  for (const Object& o : scene.objects) {
+    const Affine<double> m = o.motion->at(0);
+    for (const Vec3d& v : o.mesh.vertices) points.push_back(m.point(v));
+  }
+  if (const auto area = convex_hull_area(points)) return *area;
+  const double r = points.empty() ? 1 : std::max(minimal_sphere(points).r, 1e-30);
+  return 4 * 3.14159265358979323846 * r * r;
 }
 
 }  // namespace oprt

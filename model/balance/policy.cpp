@@ -22,17 +22,6 @@ double cap_fraction(const Vec3d& p, const Vec3d& c, double r) {
 }
 }  // namespace
 
-double scene_hull_area(const Scene& scene) {
-  std::vector<Vec3d> points;
-  for (const Object& o : scene.objects) {
-    const Affine<double> m = o.motion->at(0);
-    for (const Vec3d& v : o.mesh.vertices) points.push_back(m.point(v));
-  }
-  if (const auto area = convex_hull_area(points)) return *area;
-  const double r = points.empty() ? 1 : std::max(minimal_sphere(points).r, 1e-30);
-  return 4 * kPi * r * r;
-}
-
 std::vector<double> sa_n_weights(const Scene& scene, const std::vector<SphereDef>& spheres, const SaNCosts& c) {
   const double hull = scene_hull_area(scene);
   const double lights = static_cast<double>(scene.lights.size());

@@ -44,7 +44,7 @@ Assignment initial_assignment(const std::string& policy, std::optional<double> l
 //  - primary rays: the viewpoint is unknown, so they are taken as isotropic random lines
 //    through the scene. For such lines, the fraction that meet a convex body s lying in
 //    the convex body H they cross is A_s / A_H (Crofton; at most 1 when s sticks out of H).
-//    H is the convex hull of the scene's geometry at frame 0: every ray that matters
+//    H is the convex hull of the scene's geometry at frame 0 (hull_area.h): every ray that matters
 //    starts in it (at a camera looking at the scene, or on a surface for shadow rays).
 //    The hull, not a bounding sphere: a room's wall spheres reach far outside the room
 //    and the sphere around them has 3.6x the hull's area (docs/results.md).
@@ -64,9 +64,5 @@ Assignment initial_assignment(const std::string& policy, std::optional<double> l
 // early (and a shadow ray at its first occluder), so they overestimate alike.
 std::vector<double> sa_n_weights(const Scene& scene, const std::vector<SphereDef>& spheres,
                                  const SaNCosts& costs = {});
-
-// A_H above: the area of the convex hull of every vertex at frame 0; for a flat scene
-// (no hull with an interior) the area of its minimal enclosing sphere.
-double scene_hull_area(const Scene& scene);
 
 }  // namespace oprt

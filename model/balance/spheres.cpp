@@ -1,7 +1,7 @@
 #include "balance/spheres.h"
 
 #include "balance/extent_split.h"
-#include "balance/policy.h"
+#include "balance/hull_area.h"
 #include "balance/subdivide.h"
 #include "geom/bounding_sphere.h"
 #include "scene/error.h"

@@ -8,13 +8,14 @@ namespace oprt::hw {
 
 using namespace sc_core;
 
-Dram::Dram(const sc_module_name& name, const Arch& arch, std::size_t units)
+Dram::Dram(const sc_module_name& name, const Arch& arch, std::size_t units, std::uint64_t base)
     : sc_module(name),
       in("in"),
       cycle_(arch.cycle_ns(), SC_NS),
       latency_(cycle_ * static_cast<double>(arch.memory.dram.latency_cycles)),
       transfer_(cycle_ * static_cast<double>(dram_line_cycles(arch))),
       units_per_channel_(static_cast<std::uint32_t>(arch.memory.dram.units_per_channel)),
+      base_(base),
       channels_((units + units_per_channel_ - 1) / units_per_channel_ + 1) {
   in.register_b_transport(this, &Dram::b_transport);
 }
@@ -26,7 +27,8 @@ void Dram::b_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
     return;
   }
   const std::size_t channel = f->unit / units_per_channel_;
-  if (p.get_command() != tlm::TLM_READ_COMMAND || channel >= channels_.size() || p.get_address() >= addr::dram_size) {
+  if (p.get_command() != tlm::TLM_READ_COMMAND || channel >= channels_.size() || p.get_address() < base_ ||
+      p.get_address() - base_ >= addr::dram_size) {
     p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
     return;
   }

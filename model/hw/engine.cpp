@@ -9,13 +9,18 @@ using namespace sc_core;
 template <typename T>
 Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
                   std::size_t units, VcdWriter* vcd, TimelineWriter* timeline)
-    : sc_module(name), host("host") {
+    : sc_module(name), host("host"), mem("mem") {
   const bool decoupled = arch.level == Level::lt;
   gpp_ = std::make_unique<Gpp<T>>("gpp", scene, geometry, arch, frame_, vcd, timeline);
   bus_ = std::make_unique<Bus>("bus", arch, decoupled, vcd, timeline);
   const bool fills = arch.memory.sram_bytes != 0 && fills_leave_memory(arch);
-  if (fills) dram_ = std::make_unique<Dram>("dram", arch, units);
+  external_ = fills && arch.memory.dram.path == DramPath::external;
+  if (fills && !external_) dram_ = std::make_unique<Dram>("dram", arch, units);
   const bool fill_over_bus = fills && arch.memory.dram.path == DramPath::bus;
+  if (external_) {
+    fills_ = std::make_unique<tlm_utils::multi_passthrough_target_socket<Engine>>("fills");
+    fills_->register_b_transport(this, &Engine::fill_transport);
+  }
   host.bind(gpp_->host);
   gpp_->bus.bind(bus_->in);
   bus_->out.bind(gpp_->hits);
@@ -36,6 +41,7 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
     u.bus.bind(bus_->in);
     u.mem.bind(memories_.back()->read);
     if (fill_over_bus) memories_.back()->fill.bind(bus_->in);
+    else if (external_) memories_.back()->fill.bind(*fills_);
     else if (fills) memories_.back()->fill.bind(dram_->in);
     u.fifo.bind(*fifos_.back());
     gpp_->fifos.bind(*fifos_.back());
@@ -55,6 +61,17 @@ Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeo
     bus_->out.bind(dram_->in);
     bus_->map(addr::dram_base, addr::dram_size, {1 + 3 * static_cast<int>(units)}, "cache fill");
   }
+}
+
+template <typename T>
+void Engine<T>::end_of_elaboration() {
+  if (external_ && mem.size() == 0)
+    SC_REPORT_ERROR(name(), "memory.dram.path is \"external\": bind the engine's memory port (mem) to a memory target");
+}
+
+template <typename T>
+void Engine<T>::fill_transport(int, tlm::tlm_generic_payload& p, sc_time& delay) {
+  mem->b_transport(p, delay);
 }
 
 template <typename T>

@@ -38,8 +38,9 @@ struct UnitStats {
   std::uint64_t rays[kRayKinds] = {};
 };
 
-// A unit's cache misses contend with other units' when they share a DRAM channel, or cross
-// a shared bus.
+// A unit's cache misses contend with other units' when they share a DRAM channel (also
+// behind the engine's memory port, memory.dram.path "external": then the memory there sees
+// every unit's requests in time order), or cross a shared bus.
 inline bool dram_shared(const Arch& a) {
   return a.memory.sram_bytes != 0 && (a.memory.dram.units_per_channel > 1 ||
                                       (a.memory.dram.path == DramPath::bus && a.bus.model == BusModel::shared));

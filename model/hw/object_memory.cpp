@@ -17,7 +17,7 @@ ObjectMemory::ObjectMemory(const sc_module_name& name, int unit, const Arch& arc
       unit_(unit),
       cycle_(arch.cycle_ns(), SC_NS),
       model_(arch, static_cast<std::uint32_t>(unit)),
-      fill_base_(arch.memory.dram.path == DramPath::bus ? addr::dram_base : 0),
+      fill_base_(arch.memory.dram.path == DramPath::channel ? 0 : addr::dram_base),
       loaded_(spheres, 0),
       vcd_(vcd) {
   read.register_b_transport(this, &ObjectMemory::read_transport);

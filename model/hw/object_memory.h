@@ -8,8 +8,9 @@
 // (VisitReadExtension) is timed by the model, which hands each burst's arrivals to the
 // unit's consumer; a plain read takes no time of its own (the functional trace holds
 // on-chip memory's, memory_timing.h). A cache keeps its lines from frame to frame. Its DRAM
-// channel is its own, inside the model; a channel shared with other units, or misses over
-// the shared bus, go out through `fill` (hw/dram.h). The VCD counts its misses in flight.
+// channel is its own, inside the model; a channel shared with other units, misses over
+// the shared bus, or misses out of the engine (memory.dram.path "external") go out through
+// `fill` (hw/dram.h). The VCD counts its misses in flight.
 #pragma once
 
 #include "arch/arch.h"
@@ -31,7 +32,8 @@ class ObjectMemory : public sc_core::sc_module, private ObjectMemoryModel::Fill 
  public:
   tlm_utils::simple_target_socket<ObjectMemory> read;     // from its unit
   tlm_utils::simple_target_socket<ObjectMemory> load;     // from the bus
-  // Cache misses to a shared DRAM channel (or over the bus); unbound when its channel is its own.
+  // Cache misses to a shared DRAM channel (over the bus, or out of the engine); unbound when
+  // its channel is its own.
   tlm_utils::simple_initiator_socket_optional<ObjectMemory> fill;
 
   ObjectMemory(const sc_core::sc_module_name& name, int unit, const Arch& arch, std::size_t spheres_in_scene,
@@ -56,7 +58,7 @@ class ObjectMemory : public sc_core::sc_module, private ObjectMemoryModel::Fill 
   const int unit_;
   const sc_core::sc_time cycle_;
   ObjectMemoryModel model_;
-  const std::uint64_t fill_base_;  // DRAM's address where fills go: on the bus, its window
+  const std::uint64_t fill_base_;  // DRAM's address where fills go: on the bus or out of the engine, its window
   std::vector<char> loaded_;  // per sphere of the scene
   std::size_t loaded_count_ = 0;
   std::uint64_t bytes_read_ = 0;

@@ -17,7 +17,7 @@
 // sends it with the ray (hw/payloads.h), so the unit charges no set-up for it.
 #pragma once
 
-#include "ref/traverse.h"
+#include "ref/sphere_visit.h"
 
 #include <array>
 

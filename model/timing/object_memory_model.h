@@ -56,9 +56,10 @@ class BurstConsumer {
   virtual Cycle consume(const VisitStream& v, std::size_t b, std::size_t first, const Cycle* arrive) = 0;
 };
 
-// Misses go to a DRAM channel other units share, or over the bus: another module's.
+// Misses go to a DRAM channel other units share, over the bus, or out of the engine
+// (memory.dram.path "external"): another module's.
 inline bool fills_leave_memory(const Arch& a) {
-  return a.memory.dram.units_per_channel > 1 || a.memory.dram.path == DramPath::bus;
+  return a.memory.dram.units_per_channel > 1 || a.memory.dram.path != DramPath::channel;
 }
 
 class ObjectMemoryModel {

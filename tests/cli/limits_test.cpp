@@ -274,6 +274,32 @@ TEST_CASE("limits: findings 1 to 3 - outputs that cannot be written are refused 
   }
 }
 
+// Issue 32: an output under a folder that cannot be created (/proc refuses new folders, even
+// to root, whom access() lets write anywhere) ended with exit status 1 and a raw
+// std::filesystem error; it is bad input, named by its option, and the run leaves nothing.
+TEST_CASE("limits: an output under a folder that cannot be created exits 2 naming the option",
+          "[cli][limits][outputs]") {
+  const fs::path d = temp_dir("limits_mkdir");
+  const fs::path o = d / "o";
+  const std::string small = "--frames 0 --resolution 8x8 --no-progress ";
+  refused(render(small + "--out /proc/nonexistent/x"), {"--out: /proc/nonexistent/x: "});
+  refused(render(small + "--out " + o.string() + " --vcd /proc/nonexistent/x.vcd"), {"--vcd: /proc/nonexistent/x.vcd: "});
+  refused(render(small + "--out " + o.string() + " --timeline /proc/nonexistent/x.json"),
+          {"--timeline: /proc/nonexistent/x.json: "});
+  // A folder created for --out before --vcd's failed is removed again.
+  CHECK_FALSE(fs::exists(o));
+  if (geteuid() == 0) {  // root passes check(): the folder's creation itself fails, and says so
+    const Result r = render(small + "--out " + o.string() + " --vcd /proc/nonexistent/x.vcd");
+    CHECK_THAT(r.output, Catch::Contains("cannot create the folder /proc/nonexistent"));
+    CHECK_THAT(r.output, !Catch::Contains("filesystem error"));
+  }
+  // reference --out too.
+  const Result r = run_oprt("reference " + scene("paper_room.json") + " --frames 0 --resolution 8x8 --out /proc/nonexistent/x");
+  INFO(r.output);
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Catch::Contains("--out: /proc/nonexistent/x: "));
+}
+
 TEST_CASE("limits: findings 6 and 7 - simulated time and cycle counts that do not fit are refused naming the setting",
           "[cli][limits][overflow]") {
   const fs::path d = temp_dir("limits_time");

@@ -156,6 +156,39 @@ TEST_CASE("cli: with a DRAM channel per unit the analytic level times the caches
   CHECK(misses > 0);
 }
 
+// Issue 32: memory.dram.path "external" sends the fills out of the engine's memory port; the
+// oprt command binds its own DRAM model there, which must give exactly the figures of
+// "channel" (the same channels, latency and rate), at every level, with a channel per unit
+// or shared, under a contended bus and shallow FIFOs, serial and pipelined units alike.
+TEST_CASE("cli: memory.dram.path external through oprt's own DRAM gives exactly channel's figures", "[cli][cache]") {
+  const fs::path d = temp_dir("dram_external");
+  for (const char* level : {"at", "lt", "analytic"})
+    for (const char* iu : {"serial", "pipelined"})
+      for (int per_channel : {1, 2}) {
+        INFO(level << " " << iu << " units_per_channel " << per_channel);
+        const auto arch = [&](const char* path) {
+          const fs::path f = d / (std::string(path) + ".json");
+          std::ofstream(f) << R"({"format": "oprt-arch/1", "ius": 8, "subdivide": 2, "balance": "sa_n", "ray_fifo_depth": 2,
+              "bus": {"model": "shared", "bytes_per_cycle": 8, "arbitration_cycles": 1},
+              "memory": {"sram_bytes": 4096, "cache": {"ways": 2, "misses_outstanding": 2},
+                         "dram": {"path": ")" << path << R"(", "units_per_channel": )" << per_channel << "}}}";
+          return f.string();
+        };
+        const std::string common = "render " + scene("paper_room.json") + " --frames 0 --resolution 16x16 --no-progress" +
+                                   " --level " + level + " --iu " + iu;
+        REQUIRE(run_oprt(common + " --arch " + arch("channel") + " --out " + (d / "channel").string()).status == 0);
+        REQUIRE(run_oprt(common + " --arch " + arch("external") + " --out " + (d / "external").string()).status == 0);
+        nlohmann::json a = without_wall_clock(stats(d / "channel")), b = without_wall_clock(stats(d / "external"));
+        CHECK(b["arch"]["memory"]["dram"]["path"] == "external");
+        a.erase("arch");
+        b.erase("arch");
+        CHECK(a == b);
+        std::uint64_t misses = 0;
+        for (const auto& u : a["frames"][0]["ius"]) misses += u64(u["memory"]["misses"]);
+        CHECK(misses > 0);
+      }
+}
+
 TEST_CASE("cli: a bad --sram ends with one message and exit status 2", "[cli][cache]") {
   Result r = run_oprt("render " + scene("paper_room.json") + " --sram lots");
   CHECK(r.status == 2);

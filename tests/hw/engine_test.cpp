@@ -271,3 +271,22 @@ TEST_CASE("watertight kernel: render equals reference bit for bit, busy cycles a
   CHECK(all.tri_stage[int(WtStage::t)] > 0);
   CHECK(all.tri_stage[int(WtStage::uv)] > all.tri_stage[int(WtStage::t)]);  // most tests exit early
 }
+
+// Issue 32: with memory.dram.path "external" the fills leave through the engine's memory
+// port, which the platform must bind: unbound, elaboration stops naming it (not a crash at the
+// first miss). Bound (the oprt command binds its DRAM model): tests/cli/top_memory_test.cpp,
+// and a platform's own memory: tests/scripts/test_platform.sh.
+TEST_CASE("engine: memory.dram.path external with the memory port unbound stops at elaboration naming it",
+          "[engine][cache]") {
+  const Scene scene = load_scene(test::scene_path("paper_room.json"));
+  Arch arch;
+  arch.ius = 4;
+  arch.memory.sram_bytes = 4096;
+  arch.memory.dram.path = DramPath::external;
+  const std::vector<SphereDef> spheres = make_spheres(scene, 1);
+  const SceneGeometry<float> g = build_geometry<float>(scene, spheres);
+  hw::Engine<float> engine("engine", scene, g, arch, 4, nullptr);
+  CHECK(engine.memory_port_used());
+  CHECK(engine.dram() == nullptr);  // the memory behind the port is the platform's
+  CHECK_THROWS_WITH(sc_core::sc_start(), Catch::Contains("bind the engine's memory port (mem)"));
+}
