@@ -534,6 +534,7 @@ class AffReader {
   }
 
   Scene read(const std::string& path);
+  void read_camera(Scene& s, std::set<std::string>& used_anims);
   void read_lights(Scene& s, std::set<std::string>& used_anims);
   void set_ambient(Scene& s, const std::vector<int>& mat_remap);
   void warn_tpa_backwards();
@@ -1143,16 +1144,7 @@ Scene AffReader::read(const std::string& path) {
   };
   std::set<std::string> used_anims;
 
-  // Camera.
-  AnimPtr cam = find_anim("camera");
-  if (cam) {
-    used_anims.insert("camera");
-    if (cam->scale) note("camera 'scale' keyframes ignored");
-    if (!cam->visibility.empty()) note("camera 'visibility' keyframes ignored");
-  }
-  s.camera = cam ? CameraPathPtr(std::make_shared<AffCamera>(view_->camera, cam, clock_))
-                 : CameraPathPtr(std::make_shared<FixedCamera>(view_->camera));
-
+  read_camera(s, used_anims);
   read_lights(s, used_anims);
 
   // Motions of the animated groups, outermost transform first.
@@ -1252,6 +1244,19 @@ Scene AffReader::read(const std::string& path) {
   s.warnings = warnings_;
   validate_scene(s);
   return s;
+}
+
+// The view, animated by the keyframes named "camera" if there are any.
+void AffReader::read_camera(Scene& s, std::set<std::string>& used_anims) {
+  const auto it = anims_.find("camera");
+  const AnimPtr cam = it == anims_.end() ? nullptr : it->second;
+  if (cam) {
+    used_anims.insert("camera");
+    if (cam->scale) note("camera 'scale' keyframes ignored");
+    if (!cam->visibility.empty()) note("camera 'visibility' keyframes ignored");
+  }
+  s.camera = cam ? CameraPathPtr(std::make_shared<AffCamera>(view_->camera, cam, clock_))
+                 : CameraPathPtr(std::make_shared<FixedCamera>(view_->camera));
 }
 
 // An animated light (`la NAME`) is where its keyframes' translation puts it, frame by frame
