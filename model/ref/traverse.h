@@ -38,6 +38,18 @@ inline bool closer(const HitRecord<T>& a, const HitRecord<T>& b) {
   return a.prim < b.prim;
 }
 
+// Replicated spheres (--replicate): a sphere may be held by several units, and each ray it
+// would receive is handled by exactly one copy. The rule is by pixel quad (2 x 2 pixels): a
+// pixel's rays (its primary ray and its shadow rays) all have the key of its quad, and copy
+// key mod copies takes them. Quads, not single rays: neighbouring rays walk the same nodes
+// and triangles, so a copy's cache (--sram) sees coherent rays; the key is the quad's
+// column plus its row, so the copies take diagonal stripes of quads, and any part of the
+// image a few quads across is shared evenly, whatever the number of copies.
+inline std::uint32_t share_key(int x, int y) {
+  return static_cast<std::uint32_t>(x / 2) + static_cast<std::uint32_t>(y / 2);
+}
+inline std::uint32_t share_copy(std::uint32_t key, std::uint32_t copies) { return key % copies; }
+
 // One unit's configuration registers for a frame.
 template <typename T>
 struct IuRegisters {
@@ -46,14 +58,24 @@ struct IuRegisters {
   std::vector<Affine<T>> to_local;    // per entry: world -> local of its object
   SphereSoA<T> world_streams;         // `world` again as streams, for the SIMD sphere test
   std::vector<TopNode<T>> top;        // --top bvh: the tree over the entries (empty: flat, ref/top_tree.h)
+  // Replicated spheres (--replicate, balance/replicate.h): per entry the number of copies of
+  // its sphere and which one this unit holds (empty: no entry is a copy). A ray is this copy's
+  // share when share_copy(key, copies) is its copy (mine()).
+  std::vector<std::uint16_t> copies, copy;
 
   std::size_t size() const { return sphere.size(); }
+  // Whether entry i's sphere is this unit's to enter for a ray of share key `key`.
+  bool mine(std::uint32_t i, std::uint32_t key) const {
+    return copies.empty() || copies[i] <= 1 || share_copy(key, copies[i]) == copy[i];
+  }
   void load(const FrameSetup<T>& f, const SceneGeometry<T>& g, const std::vector<std::uint32_t>& spheres) {
     sphere.clear();
     world.clear();
     to_local.clear();
     world_streams.clear();
     top.clear();
+    copies.clear();
+    copy.clear();
     for (std::uint32_t s : spheres) {
       if (!f.visible[s]) continue;  // hidden this frame: the GPP does not write it
       sphere.push_back(s);
@@ -151,23 +173,27 @@ void keep_closer(const SceneGeometry<T>& mem, std::uint32_t s, const BlockHit<T>
 }
 
 template <typename T, typename Visit>
-HitRecord<T> trace_nearest_top(const SceneGeometry<T>&, const IuRegisters<T>&, const Ray<T>&, Visit&&, StageLog*);
+HitRecord<T> trace_nearest_top(const SceneGeometry<T>&, const IuRegisters<T>&, const Ray<T>&, Visit&&, StageLog*,
+                               std::uint32_t);
 template <typename T, typename Visit>
-bool trace_any_top(const SceneGeometry<T>&, const IuRegisters<T>&, const Ray<T>&, Visit&&, StageLog*);
+bool trace_any_top(const SceneGeometry<T>&, const IuRegisters<T>&, const Ray<T>&, Visit&&, StageLog*, std::uint32_t);
 
 // Nearest hit over the unit's spheres. Every triangle of an entered sphere is tested
 // against the ray's own tmax, never against the nearest hit so far: the exit stage of a
 // (ray, triangle) pair, and so its cost, is then the same in every unit and in every order
 // (see geom/triangle.h). visit(const SphereVisit&) is called once per sphere tested.
+// `key`: the ray's share key (share_key); a flat unit tests every entry of its registers
+// as it streams them, and does not enter a copy whose share the ray is not (its sphere
+// test is made, and charged, as the entry passes).
 template <typename T, typename Visit>
 HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray,
-                           Visit&& visit, StageLog* log = nullptr) {
-  if (!regs.top.empty()) return trace_nearest_top(mem, regs, ray, visit, log);  // ref/top_traverse.h
+                           Visit&& visit, StageLog* log = nullptr, std::uint32_t key = 0) {
+  if (!regs.top.empty()) return trace_nearest_top(mem, regs, ray, visit, log, key);  // ref/top_traverse.h
   HitRecord<T> best;
   for_each_sphere_test(regs, ray, [&](std::uint32_t i, bool sphere_hit) {
     SphereVisit v{i, regs.sphere[i], {}};
     v.work.sphere_tests = 1;
-    if (sphere_hit) keep_closer(mem, v.sphere, nearest_in_sphere(mem, regs, i, ray, v, log), best);
+    if (sphere_hit && regs.mine(i, key)) keep_closer(mem, v.sphere, nearest_in_sphere(mem, regs, i, ray, v, log), best);
     visit(v);
     return false;
   });
@@ -177,13 +203,13 @@ HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& re
 // Any hit in (0, tmax) over the unit's spheres: the unit stops at its first occluder.
 template <typename T, typename Visit>
 bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray, Visit&& visit,
-               StageLog* log = nullptr) {
-  if (!regs.top.empty()) return trace_any_top(mem, regs, ray, visit, log);  // ref/top_traverse.h
+               StageLog* log = nullptr, std::uint32_t key = 0) {
+  if (!regs.top.empty()) return trace_any_top(mem, regs, ray, visit, log, key);  // ref/top_traverse.h
   bool occluded = false;
   for_each_sphere_test(regs, ray, [&](std::uint32_t i, bool sphere_hit) {
     SphereVisit v{i, regs.sphere[i], {}};
     v.work.sphere_tests = 1;
-    if (sphere_hit) occluded = any_in_sphere(mem, regs, i, ray, v, log);
+    if (sphere_hit && regs.mine(i, key)) occluded = any_in_sphere(mem, regs, i, ray, v, log);
     visit(v);
     return occluded;
   });

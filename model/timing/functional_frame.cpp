@@ -57,6 +57,7 @@ struct Totals {
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;
   std::vector<UnitCycles> units;
   std::vector<std::array<std::uint64_t, kRayKinds>> node_tests;  // per unit
+  std::vector<std::array<WorkCounts, kRayKinds>> unit_work;      // per unit: its visits' work
 };
 
 template <typename T>
@@ -81,6 +82,7 @@ class Recorder {
       c_.route_units.push_back(u);
       ++c_.route_count.back();
     }
+    unit_ = u;
     sphere_tests_ = visits_ = node_tests_ = 0;
     spheres_before_ = nodes_before_ = 0;
     bytes_ = 0;
@@ -92,6 +94,7 @@ class Recorder {
     nodes_before_ += v.nodes_before;
     if (v.sphere == kNone) return;  // node tests after the last sphere (top_traverse.h)
     t_.per_sphere[kind_][v.sphere] += v.work;
+    t_.unit_work[unit_][kind_] += v.work;
     ++sphere_tests_;
     ++spheres_before_;
     if (!v.work.transforms) return;
@@ -172,6 +175,7 @@ class Recorder {
   const bool detail_, routed_;
   const std::uint32_t node_bytes_, triangle_bytes_;
   int kind_ = 0;
+  std::uint32_t unit_ = 0;
   std::uint32_t sphere_tests_ = 0, visits_ = 0, first_visit_ = 0, node_tests_ = 0;
   std::uint32_t spheres_before_ = 0, nodes_before_ = 0;  // tests since the last entered sphere
   std::uint64_t bytes_ = 0;
@@ -222,6 +226,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
     for (auto& k : l.totals.per_sphere) k.assign(spheres, WorkCounts{});
     l.totals.units.assign(n_units, UnitCycles{});
     l.totals.node_tests.assign(n_units, {});
+    l.totals.unit_work.assign(n_units, {});
     return l;
   });
   parallel_chunks(pixels, kPixelsPerChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
@@ -236,12 +241,16 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
   for (auto& k : out.per_sphere) k.assign(spheres, WorkCounts{});
   out.unit_cycles.assign(n_units, UnitCycles{});
   out.unit_node_tests.assign(n_units, {});
+  out.unit_work.assign(n_units, {});
   for (const Local& l : locals) {
     for (int k = 0; k < kRayKinds; ++k)
       for (std::size_t s = 0; s < spheres; ++s) out.per_sphere[k][s] += l.totals.per_sphere[k][s];
     for (std::size_t u = 0; u < n_units; ++u) {
       out.unit_cycles[u] += l.totals.units[u];
-      for (int k = 0; k < kRayKinds; ++k) out.unit_node_tests[u][k] += l.totals.node_tests[u][k];
+      for (int k = 0; k < kRayKinds; ++k) {
+        out.unit_node_tests[u][k] += l.totals.node_tests[u][k];
+        out.unit_work[u][k] += l.totals.unit_work[u][k];
+      }
     }
   }
 

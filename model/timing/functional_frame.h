@@ -95,6 +95,9 @@ struct FunctionalFrame {
   std::vector<std::uint32_t> unit_entries;  // per unit: spheres in its registers this frame
   std::vector<char> unit_top;             // per unit: it walks a tree over its spheres (--top bvh)
   std::vector<std::array<std::uint64_t, kRayKinds>> unit_node_tests;  // per unit and ray kind
+  // Per unit and ray kind: the work of its sphere visits (the per-sphere table's share of
+  // it; a replicated sphere's work lies on several units).
+  std::vector<std::array<WorkCounts, kRayKinds>> unit_work;
   // Routing (ref/route.h; broadcast: empty): ray r went to the units route_units[route_first[r]
   // .. route_first[r + 1]), in order, the last of each wave flagged with kWaveEnd; and how many
   // (ray, unit) pairs `ordered` spared, in all and per ray.
