@@ -12,6 +12,9 @@
 // route: besides its own tests it carries its share of its unit's node tests (each unit's
 // node cycles split over its spheres by the rays that reached each, its sphere tests), the
 // work a unit does for the rays that enter its bound, which moves with the sphere.
+// Feedback's copies also know when the work came in the frame before (FunctionalFrame's
+// slices): a unit whose spheres are reached only by the last rows' rays cannot start
+// before the GPP issues them (balance/replicate.h).
 #pragma once
 
 #include "balance/assign.h"
@@ -41,8 +44,9 @@ class PolicyDriver {
   const Arch& arch_;
   Assignment partition_, current_;  // current_: partition_ with its copies
   std::vector<std::uint64_t> bytes_;
-  Assignment with_copies(const Assignment& partition, const std::vector<double>& weight) const;
-  std::vector<double> measured_weights(const hw::FrameRun& previous) const;
+  Assignment with_copies(const Assignment& partition, const std::vector<double>& weight,
+                         const hw::FrameRun* previous = nullptr) const;
+  std::vector<double> measured_weights(const hw::FrameRun& previous, std::vector<double>* slices = nullptr) const;
   int width_, height_;
 };
 

@@ -406,7 +406,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   out.makespan = g;
   route_figures(f, units, out.route);
   *cmd.image = f.image;
-  out.per_sphere = f.per_sphere;
+  report_work(f, out);
   for (std::size_t u = 0; u < units; ++u) {
     UnitTimed& t = timed[u];
     t.rays = t.fifo_pushes = t.fifo_pops = pushes[u];

@@ -60,7 +60,16 @@ struct FrameRun {
   RouteRun route;
   std::vector<UnitRun> units;
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere], whichever unit did it
+  std::vector<std::uint64_t> sphere_slices, unit_node_slices;  // FunctionalFrame's: when the work lay in the frame
 };
+
+// The frame's work tables a run reports (for the next frame's balance).
+template <typename T>
+void report_work(const FunctionalFrame<T>& f, FrameRun& run) {
+  run.per_sphere = f.per_sphere;
+  run.sphere_slices = f.sphere_slices;
+  run.unit_node_slices = f.unit_node_slices;
+}
 
 // What a level timed of one unit in a frame, beside the trace's work.
 struct UnitTimed {
