@@ -27,6 +27,8 @@ Assignment PolicyDriver<T>::with_copies(const Assignment& partition, const std::
   in.weight = weight;
   in.bytes = bytes_;
   in.capacity = arch_.memory.sram_bytes;
+  for (std::uint64_t b : bytes_) in.budget += b;
+  in.budget = (in.budget + 3) / 4;  // copies: at most a quarter of the scene's geometry
   in.max_copies = arch_.replicate == Arch::kReplicateAuto ? 0 : static_cast<std::size_t>(arch_.replicate);
   // A copy's overhead: the rays sent to a unit for it test its flat list, or walk its tree
   // from the root. A full walk tests a node per level on the way down and its sibling, 1 +

@@ -52,6 +52,7 @@ Assignment replicate(const Assignment& partition, const ReplicateInputs& in) {
   }
   const std::size_t max_copies = in.max_copies ? std::min(in.max_copies, n) : n;
 
+  std::uint64_t spent = 0;  // the copies' bytes so far
   Assignment out = partition;
   std::vector<std::uint32_t> order;
   std::vector<double> trial(slices);
@@ -77,6 +78,7 @@ Assignment replicate(const Assignment& partition, const ReplicateInputs& in) {
     });
     bool applied = false;
     for (std::uint32_t s : order) {
+      if (in.budget && spent + in.bytes[s] > in.budget) continue;
       const double k = copies[s], share = 1 / (k + 1), change = 1 / (k + 1) - 1 / k;
       std::size_t v = n;
       double v_end = 0;
@@ -102,6 +104,7 @@ Assignment replicate(const Assignment& partition, const ReplicateInputs& in) {
       holds[v][s] = 1;
       ++copies[s];
       used[v] += in.bytes[s];
+      spent += in.bytes[s];
       out.unit[v].insert(std::lower_bound(out.unit[v].begin(), out.unit[v].end(), s), s);
       applied = true;
       break;

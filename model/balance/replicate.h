@@ -14,7 +14,10 @@
 // sphere with k copies puts weight / k on each of its units. A unit's memory is the
 // capacity given, or with none (on-chip memory without a limit) the largest unit's bytes
 // under the partition: units are alike, each sized for the largest assignment, and copies
-// fill what the others leave unused, never a memory larger than the partition needs.
+// fill what the others leave unused, never a memory larger than the partition needs; and
+// the copies together stay within a budget (the policy driver's: a quarter of the scene's
+// geometry bytes), so that a greedy that gains a little with every copy of a large sphere
+// does not double the memory.
 #pragma once
 
 #include "balance/assign.h"
@@ -37,6 +40,7 @@ struct ReplicateInputs {
   std::vector<double> unit_extra;      // per unit: cycles no sphere accounts for (may be empty)
   std::vector<std::uint64_t> bytes;    // per sphere: its geometry in object memory
   std::uint64_t capacity = 0;          // per unit (0: the largest unit's bytes under the partition)
+  std::uint64_t budget = 0;            // the copies' bytes over every unit, at most (0: no limit)
   std::size_t max_copies = 0;          // of one sphere (0: as many as there are units)
   // What a copy costs beyond its share of the work: per sphere the rays that reach it
   // (reach), and per unit the cycles a ray sent to it for a copy spends before it reaches

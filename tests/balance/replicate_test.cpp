@@ -59,3 +59,13 @@ TEST_CASE("replicate: at most N copies, only into memory that has room, none whe
   in.capacity = 100;
   CHECK(replicate(of({{0}, {1}, {2}, {3}}), in).unit == std::vector<std::vector<std::uint32_t>>{{0}, {1}, {2}, {3}});
 }
+
+TEST_CASE("replicate: the copies stay within their budget of bytes", "[balance][replicate]") {
+  ReplicateInputs in;
+  in.weight = {12, 2, 2, 2};
+  in.bytes = {10, 10, 10, 10};
+  in.capacity = 100;
+  in.budget = 25;  // two copies of 10 bytes, not three
+  CHECK(replicate(Assignment{{{0}, {1}, {2}, {3}}}, in).unit ==
+        std::vector<std::vector<std::uint32_t>>{{0}, {0, 1}, {0, 2}, {3}});
+}
