@@ -70,7 +70,7 @@ std::vector<double> PolicyDriver<T>::measured_weights(const hw::FrameRun& previo
     for (std::size_t i = 0; i < spheres * S && i < previous.sphere_slices.size(); ++i)
       (*slices)[i] = static_cast<double>(previous.sphere_slices[i]);
   }
-  if (!arch_.routed()) return w;
+  if (!arch_.routed() || !arch_.replicate) return w;  // --replicate off: feedback as it always was
   // The route: each unit's node tests, split over its spheres by the rays that reached each
   // (a replicated sphere's tests shared evenly by its copies).
   std::vector<double> copies(spheres, 0);

@@ -8,10 +8,12 @@
 // With --replicate (balance/replicate.h) the partition then gains copies of its hottest
 // spheres: from sa_n's estimate for the static policies and the first frame, from the
 // frame before's measured cycles under feedback, from the view's under view.
-// Under routing (--route multicast / ordered) feedback's measured cost of a sphere knows the
-// route: besides its own tests it carries its share of its unit's node tests (each unit's
+// Under routing (--route multicast / ordered) and with --replicate, feedback's measured cost
+// of a sphere knows the route: besides its own tests it carries its share of its unit's node tests (each unit's
 // node cycles split over its spheres by the rays that reached each, its sphere tests), the
-// work a unit does for the rays that enter its bound, which moves with the sphere.
+// work a unit does for the rays that enter its bound, which moves with the sphere. (Without
+// --replicate feedback stays as it was: on the routing table this cost helped the room at
+// K = 8 and hurt the polygons, docs/results.md "Replicated spheres".)
 // Feedback's copies also know when the work came in the frame before (FunctionalFrame's
 // slices): a unit whose spheres are reached only by the last rows' rays cannot start
 // before the GPP issues them (balance/replicate.h).
