@@ -61,7 +61,7 @@ struct IuRegisters {
   // Replicated spheres (--replicate, balance/replicate.h): per entry the number of copies of
   // its sphere and which one this unit holds (empty: no entry is a copy). A ray is this copy's
   // share when share_copy(key, copies) is its copy (mine()).
-  std::vector<std::uint16_t> copies, copy;
+  std::vector<std::uint32_t> copies, copy;
 
   std::size_t size() const { return sphere.size(); }
   // Whether entry i's sphere is this unit's to enter for a ray of share key `key`.

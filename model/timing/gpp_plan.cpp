@@ -82,10 +82,10 @@ const typename GppPlan<T>::Config& GppPlan<T>::configure(const FrameCommand& cmd
   config_.bytes.assign(units, 0);
   // Replicated spheres (a sphere in several units' lists): per entry its copies and which
   // one the unit holds, the i-th unit in unit order holding it (ref/traverse.h: mine()).
-  std::vector<std::uint16_t> holders(geom_.sphere_count(), 0), seen(geom_.sphere_count(), 0);
+  std::vector<std::uint32_t> holders(geom_.sphere_count(), 0), seen(geom_.sphere_count(), 0);
   for (const auto& spheres : assignment_)
     for (std::uint32_t s : spheres) ++holders[s];
-  const bool replicated = std::any_of(holders.begin(), holders.end(), [](std::uint16_t h) { return h > 1; });
+  const bool replicated = std::any_of(holders.begin(), holders.end(), [](std::uint32_t h) { return h > 1; });
   for (std::size_t u = 0; u < units; ++u) {
     registers_[u].load(*setup_, geom_, assignment_[u]);
     if (replicated) {
