@@ -26,6 +26,14 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   fs.image_hash = image.hash();
   fs.frame_time_s = static_cast<double>(run.makespan) * job.arch.cycle_ns() * 1e-9;
   if (job.arch.iu.model == IuModel::pipelined) fs.pipeline = hw::pipeline_config(job.arch);
+  if (job.arch.replicate) {
+    std::vector<std::uint64_t> bytes;
+    for (std::uint32_t s = 0; s < geometry.sphere_count(); ++s) bytes.push_back(geometry.memory_bytes(s));
+    fs.replicating = true;
+    fs.replicas = replicas(job.assignment, geometry.sphere_count());
+    fs.replica_bytes = replica_bytes(job.assignment, bytes);
+    for (std::uint64_t b : bytes) fs.geometry_bytes += b;
+  }
   fs.sphere_cycles.assign(geometry.sphere_count(), 0);
   fs.sphere_entries.assign(geometry.sphere_count(), {});
   for (int k = 0; k < kRayKinds; ++k)
@@ -52,7 +60,7 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
     us.config_bytes = us.spheres.size() * hw::Bytes<T>::sphere_config;
     for (std::uint32_t s : us.spheres) us.memory_capacity_bytes += geometry.memory_bytes(s);
     for (int k = 0; k < kRayKinds; ++k) {
-      for (std::uint32_t s : us.spheres) us.work[k] += run.per_sphere[k][s];
+      us.work[k] = r.work[k];  // the unit's share of a replicated sphere's work, not all of it
       us.work[k].node_tests = r.node_tests[k];  // the unit's, never a sphere's
     }
     us.memory_bytes = r.memory_bytes;

@@ -176,6 +176,9 @@ void CommandLine::add_render() {
       ->check(CLI::IsMember({"paper", "round_robin", "sa_n", "spatial", "feedback", "view"}));
   render->add_option("--locality", ro.locality,
                      "spatial, feedback: tight unit bounds (1) against balance (0); spatial's default 0.5");
+  render->add_option("--replicate", ro.replicate,
+                     "auto | N | off: copies of the hottest spheres on several units, each ray sent to one copy "
+                     "(auto: as many as balance the units within their memory; N: at most N copies of a sphere)");
   add_subdivide(render, ro.subdivide);
   render->add_option("--accel", ro.accel, "brute | bvh")->check(CLI::IsMember({"brute", "bvh"}));
   render->add_option("--top", ro.top, "flat | bvh: every sphere per ray, or a tree over each unit's spheres")

@@ -2,17 +2,94 @@
 
 #include "balance/dynamic.h"
 #include "balance/partition_quality.h"
+#include "balance/replicate.h"
 #include "balance/spatial.h"
 #include "ref/frame_setup.h"
+
+#include <cmath>
 
 namespace oprt {
 
 template <typename T>
 PolicyDriver<T>::PolicyDriver(const Scene& scene, const SceneGeometry<T>& g, const Arch& arch, Assignment initial,
                               int width, int height)
-    : scene_(scene), geom_(g), arch_(arch), current_(std::move(initial)), width_(width), height_(height) {
+    : scene_(scene), geom_(g), arch_(arch), partition_(std::move(initial)), width_(width), height_(height) {
   for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
     bytes_.push_back(g.memory_bytes(s));
+  current_ = arch.replicate ? with_copies(partition_, sa_n_weights(scene, g.defs, sa_n_costs(arch, g))) : partition_;
+}
+
+template <typename T>
+Assignment PolicyDriver<T>::with_copies(const Assignment& partition, const std::vector<double>& weight,
+                                       const hw::FrameRun* previous) const {
+  if (!arch_.replicate) return partition;
+  ReplicateInputs in;
+  in.weight = weight;
+  in.bytes = bytes_;
+  in.capacity = arch_.memory.sram_bytes;
+  for (std::uint64_t b : bytes_) in.budget += b;
+  in.budget = (in.budget + 3) / 4;  // copies: at most a quarter of the scene's geometry
+  in.max_copies = arch_.replicate == Arch::kReplicateAuto ? 0 : static_cast<std::size_t>(arch_.replicate);
+  // A copy's overhead: the rays sent to a unit for it test its flat list, or walk its tree
+  // from the root. A full walk tests a node per level on the way down and its sibling, 1 +
+  // 2 log2(spheres + 1) nodes; most of the walk is shared with the rays the unit takes
+  // anyway, and what the copy's own rays add was measured at about 30 % of it on the room
+  // (docs/results.md, "Replicated spheres"): the estimate takes 0.3 of a full walk.
+  in.ray_cycles.resize(partition.units());
+  for (std::size_t u = 0; u < partition.units(); ++u) {
+    const double n = static_cast<double>(partition.unit[u].size()) + 1;
+    in.ray_cycles[u] = arch_.top_tree() ? 0.3 * arch_.costs.node * (1 + 2 * std::log2(n)) : arch_.costs.sphere * n;
+  }
+  if (previous) {
+    in.reach.assign(geom_.sphere_count(), 0);
+    for (int k = 0; k < kRayKinds; ++k)
+      for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s)
+        in.reach[s] += static_cast<double>(previous->per_sphere[k][s].sphere_tests);
+  }
+  if (previous && !previous->sphere_slices.empty()) {
+    // The GPP's issue time in the frame before: its router's and its own per-ray cycles.
+    in.slices = hw::kWorkSlices;
+    measured_weights(*previous, &in.weight_slices);
+    in.issue = static_cast<double>(previous->route.cycles) +
+               static_cast<double>(previous->rays[0] + previous->rays[1]) * arch_.gpp.cycles_per_ray;
+  }
+  return replicate(partition, in);
+}
+
+template <typename T>
+std::vector<double> PolicyDriver<T>::measured_weights(const hw::FrameRun& previous, std::vector<double>* slices) const {
+  const std::size_t spheres = geom_.sphere_count(), S = hw::kWorkSlices;
+  std::vector<double> w(spheres, 0), reached(spheres, 0);
+  for (int k = 0; k < kRayKinds; ++k)
+    for (std::uint32_t s = 0; s < spheres; ++s) {
+      w[s] += static_cast<double>(hw::work_cycles(previous.per_sphere[k][s], arch_.costs, arch_.kernel).busy());
+      reached[s] += static_cast<double>(previous.per_sphere[k][s].sphere_tests);
+    }
+  if (slices) {
+    slices->assign(spheres * S, 0);
+    for (std::size_t i = 0; i < spheres * S && i < previous.sphere_slices.size(); ++i)
+      (*slices)[i] = static_cast<double>(previous.sphere_slices[i]);
+  }
+  if (!arch_.routed() || !arch_.replicate) return w;  // --replicate off: feedback as it always was
+  // The route: each unit's node tests, split over its spheres by the rays that reached each
+  // (a replicated sphere's tests shared evenly by its copies).
+  std::vector<double> copies(spheres, 0);
+  for (const auto& list : current_.unit)
+    for (std::uint32_t s : list) copies[s] += 1;
+  for (std::size_t u = 0; u < current_.units() && u < previous.units.size(); ++u) {
+    const double node = static_cast<double>(previous.units[u].cycles.node);
+    if (node == 0 || current_.unit[u].empty()) continue;
+    double total = 0;
+    for (std::uint32_t s : current_.unit[u]) total += reached[s] / copies[s];
+    for (std::uint32_t s : current_.unit[u]) {
+      const double part = total > 0 ? (reached[s] / copies[s]) / total : 1.0 / static_cast<double>(current_.unit[u].size());
+      w[s] += node * part;
+      if (slices && (u + 1) * S <= previous.unit_node_slices.size())
+        for (std::size_t i = 0; i < S; ++i)
+          (*slices)[s * S + i] += part * static_cast<double>(previous.unit_node_slices[u * S + i]);
+    }
+  }
+  return w;
 }
 
 template <typename T>
@@ -21,10 +98,7 @@ const Assignment& PolicyDriver<T>::for_frame(int f, const hw::FrameRun* previous
   std::vector<double> w;
   if (arch_.balance == "feedback") {
     if (!previous) return current_;  // the first frame: sa_n, the initial assignment
-    w.assign(geom_.sphere_count(), 0);
-    for (int k = 0; k < kRayKinds; ++k)
-      for (std::uint32_t s = 0; s < geom_.sphere_count(); ++s)
-        w[s] += static_cast<double>(hw::work_cycles(previous->per_sphere[k][s], arch_.costs, arch_.kernel).busy());
+    w = measured_weights(*previous);
   } else {
     const FrameSetup<T> setup = setup_frame(scene_, geom_, f);
     std::vector<Sphere<double>> world;
@@ -43,9 +117,10 @@ const Assignment& PolicyDriver<T>::for_frame(int f, const hw::FrameRun* previous
   }
   // With a locality, feedback re-partitions by where the spheres are in this frame.
   const Assignment next = arch_.balance == "feedback" && arch_.locality
-                              ? assign_spatial(sphere_world_boxes(scene_, geom_.defs, f), w, current_.units(), *arch_.locality)
-                              : assign_weighted(w, current_.units());
-  current_ = keep_in_place(next, current_, bytes_);
+                              ? assign_spatial(sphere_world_boxes(scene_, geom_.defs, f), w, partition_.units(), *arch_.locality)
+                              : assign_weighted(w, partition_.units());
+  partition_ = keep_in_place(next, partition_, bytes_);
+  current_ = with_copies(partition_, w, arch_.balance == "feedback" ? previous : nullptr);
   return current_;
 }
 

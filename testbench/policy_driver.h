@@ -5,6 +5,18 @@
 // cycles and where the spheres are in the frame, the first frame spatial at F on sa_n's).
 // Dynamic assignments keep as much geometry in place as the partition allows; what moves
 // is written into object memories over the bus.
+// With --replicate (balance/replicate.h) the partition then gains copies of its hottest
+// spheres: from sa_n's estimate for the static policies and the first frame, from the
+// frame before's measured cycles under feedback, from the view's under view.
+// Under routing (--route multicast / ordered) and with --replicate, feedback's measured cost
+// of a sphere knows the route: besides its own tests it carries its share of its unit's node tests (each unit's
+// node cycles split over its spheres by the rays that reached each, its sphere tests), the
+// work a unit does for the rays that enter its bound, which moves with the sphere. (Without
+// --replicate feedback stays as it was: on the routing table this cost helped the room at
+// K = 8 and hurt the polygons, docs/results.md "Replicated spheres".)
+// Feedback's copies also know when the work came in the frame before (FunctionalFrame's
+// slices): a unit whose spheres are reached only by the last rows' rays cannot start
+// before the GPP issues them (balance/replicate.h).
 #pragma once
 
 #include "balance/assign.h"
@@ -24,14 +36,19 @@ class PolicyDriver {
                int height);
   // The assignment for frame f; `previous` is the frame before's run (null for the first).
   const Assignment& for_frame(int f, const hw::FrameRun* previous);
+  // The run's first assignment: `initial` with copies under --replicate.
+  const Assignment& current() const { return current_; }
   bool dynamic() const { return arch_.balance == "feedback" || arch_.balance == "view"; }
 
  private:
   const Scene& scene_;
   const SceneGeometry<T>& geom_;
   const Arch& arch_;
-  Assignment current_;
+  Assignment partition_, current_;  // current_: partition_ with its copies
   std::vector<std::uint64_t> bytes_;
+  Assignment with_copies(const Assignment& partition, const std::vector<double>& weight,
+                         const hw::FrameRun* previous = nullptr) const;
+  std::vector<double> measured_weights(const hw::FrameRun& previous, std::vector<double>* slices = nullptr) const;
   int width_, height_;
 };
 

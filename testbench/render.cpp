@@ -34,6 +34,7 @@ Arch resolve_arch(const RenderOptions& o) {
   if (o.quantum) a.quantum_ns = static_cast<double>(parse_time_ps(*o.quantum, false, {"--quantum", *o.quantum})) / 1000;
   if (o.balance) a.balance = *o.balance;
   if (o.locality) a.locality = parse_locality(*o.locality);
+  if (o.replicate) a.replicate = replicate_named(*o.replicate, "--replicate");
   if (o.subdivide) a.subdivide = *o.subdivide;
   if (!o.split.empty()) a.split = o.split;
   if (o.accel) a.accel = *o.accel;

@@ -130,6 +130,11 @@ nlohmann::json to_json(const FrameStats& f) {
           {"sphere_entries", f.sphere_entries},
           {"ius", units}};
   j["frame_time_s"] = f.frame_time_s;
+  if (f.replicating) {
+    nlohmann::json copies = nlohmann::json::array();
+    for (const Replica& r : f.replicas) copies.push_back({{"sphere", r.sphere}, {"units", r.units}});
+    j["replicas"] = {{"copies", copies}, {"bytes", f.replica_bytes}, {"geometry_bytes", f.geometry_bytes}};
+  }
   if (f.energy) {
     j["energy_j"] = f.energy->to_json();
     if (!f.energy->notes.empty()) j["energy_notes"] = f.energy->notes;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "arch/arch.h"
+#include "balance/replicate.h"
 #include "timing/cache.h"
 #include "cost/cost_model.h"
 #include "timing/pipeline_timing.h"
@@ -59,6 +60,10 @@ struct FrameStats {
   std::uint64_t memory_load_cycles = 0;  // bus cycles of that move, inside the makespan (0 on an ideal bus)
   std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;  // --top bvh: the GPP's work on the units' trees
   hw::RouteRun route;  // --route: the router's cycles, spared (ray, unit) pairs, fan-out histogram
+  // --replicate: the copies (sphere, its units) and the bytes the copies beyond the first take.
+  bool replicating = false;
+  std::vector<Replica> replicas;
+  std::uint64_t replica_bytes = 0, geometry_bytes = 0;
   std::uint64_t image_hash = 0;
   std::vector<UnitFrameStats> units;
   std::vector<std::uint64_t> sphere_cycles;  // per sphere: busy cycles spent on it (whichever unit)

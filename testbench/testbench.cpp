@@ -225,7 +225,7 @@ class Testbench : public sc_module {
         SC_REPORT_FATAL("testbench", ("object memory " + std::to_string(u) + " was read other bytes than the work needs").c_str());
       run.units.push_back(r);
     }
-    run.per_sphere = engine_->functional().per_sphere;
+    hw::report_work(engine_->functional(), run);
     return run;
   }
 

@@ -98,16 +98,44 @@ void read_iu(const JsonIn& j, IuConfig& iu) {
   }
 }
 
-// "balance": a policy's name, or {"policy": NAME, "locality": F} (either key optional).
+}  // namespace
+
+// "auto", "off" or a number of copies from 1 (off) to 65535.
+int replicate_named(const std::string& text, const std::string& where) {
+  if (text == "auto") return Arch::kReplicateAuto;
+  if (text == "off") return 0;
+  std::size_t end = 0;
+  long long n = -1;
+  try {
+    n = std::stoll(text, &end);
+  } catch (const std::exception&) {
+    end = 0;
+  }
+  if (end != text.size() || text.empty() || !std::isdigit(static_cast<unsigned char>(text[0])) || n < 1 || n > 65535)
+    throw InputError(where, text, "expected auto, off or a number of copies from 1 to 65535");
+  return n == 1 ? 0 : static_cast<int>(n);
+}
+
+namespace {
+
+// "balance": a policy's name, or {"policy": NAME, "locality": F, "replicate": R} (each key optional).
 void read_balance(const JsonIn& j, Arch& a) {
   const std::initializer_list<const char*> policies = {"paper", "round_robin", "sa_n", "spatial", "feedback", "view"};
   if (!j.is_object()) {
     a.balance = one_of(j, policies);
     return;
   }
-  j.only_keys({"policy", "locality"});
+  j.only_keys({"policy", "locality", "replicate"});
   if (auto v = j.find("policy")) a.balance = one_of(*v, policies);
   if (auto v = j.find("locality")) a.locality = v->number(0, 1);
+  if (auto v = j.find("replicate")) {
+    if (v->is_string()) {
+      a.replicate = replicate_named(v->string(), a.source + ": /balance/replicate");
+    } else {
+      const int n = static_cast<int>(v->integer(1, 65535));
+      a.replicate = n == 1 ? 0 : n;
+    }
+  }
 }
 
 // "route": a policy's name, or {"policy", "transfer", "wave", "lanes", "bound", "adders", "multipliers"}.
@@ -297,6 +325,7 @@ nlohmann::json to_json(const Arch& a) {
   // Only where it applies (the records of the other policies stay as they were).
   if (a.balance == "spatial") j["locality"] = a.locality.value_or(kDefaultLocality);
   else if (a.balance == "feedback" && a.locality) j["locality"] = *a.locality;
+  if (a.replicate) j["replicate"] = a.replicate == Arch::kReplicateAuto ? nlohmann::json("auto") : nlohmann::json(a.replicate);
   return j;
 }
 

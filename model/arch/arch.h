@@ -98,6 +98,10 @@ struct Arch {
   // Tight unit bounds (1) against balance (0) for `spatial` (unset: balance/spatial.h's
   // default) and `feedback` (unset: feedback on costs alone, as before locality existed).
   std::optional<double> locality;
+  // Copies of hot spheres on several units (balance/replicate.h): 0 off, kReplicateAuto, or
+  // at most that many copies of a sphere.
+  int replicate = 0;
+  static constexpr int kReplicateAuto = -1;
   int subdivide = 1;
   std::string split_rule = "balanced";  // how --subdivide splits an object (balance/subdivide.cpp)
   // How objects become spheres (balance/spheres.h): "count" or "extent"; "" is the scene
@@ -136,6 +140,9 @@ struct Arch {
 // `origin` names a setting by where it came from ("--iu pipelined", "arch.json: /top bvh").
 void check_arch(const Arch& a, const std::function<std::string(const std::string& key)>& origin = {});
 Arch load_arch(const std::string& path);
+// --replicate / "balance": {"replicate": ...}: "auto", "off" or a number of copies (1: off).
+// Throws InputError naming `where`.
+int replicate_named(const std::string& text, const std::string& where);
 Arch arch_from_json(const nlohmann::json& doc, const std::string& file);
 nlohmann::json to_json(const Arch& a);
 

@@ -53,15 +53,15 @@ struct PixelScratch {
 // once a shadow ray is occluded; `limit()` the closest hit so far (ordered routing skips a
 // unit entered beyond it).
 template <typename T, typename Recorder, typename Unit, typename Limit>
-void route_ray(const FrameTraceInputs<T>& in, const Ray<T>& ray, Recorder& rec, PixelScratch<T>& scratch, Unit&& unit,
-               Limit&& limit) {
+void route_ray(const FrameTraceInputs<T>& in, const Ray<T>& ray, std::uint32_t key, Recorder& rec,
+               PixelScratch<T>& scratch, Unit&& unit, Limit&& limit) {
   const RouteTable<T>* r = in.route;
   if (!r || !r->routed()) {
     for (std::uint32_t u = 0; u < in.units.size(); ++u) unit(u);
     rec.wave_end();
     return;
   }
-  const std::size_t n = r->entered(ray, scratch.entered);
+  const std::size_t n = r->entered(ray, scratch.entered, key);
   if (r->route == Route::multicast) {
     for (std::size_t i = 0; i < n; ++i) unit(scratch.entered[i].unit);
     rec.wave_end();
@@ -74,7 +74,7 @@ void route_ray(const FrameTraceInputs<T>& in, const Ray<T>& ray, Recorder& rec, 
     std::uint32_t in_wave = 0;
     for (; i < n && in_wave < r->wave; ++i) {
       const std::uint32_t u = scratch.entered[i].unit;
-      if (!r->worth(ray, u, l)) {
+      if (!r->worth(ray, u, l, key)) {
         rec.skip(u);
         continue;
       }
@@ -93,14 +93,15 @@ void trace_pixel(const FrameTraceInputs<T>& in, int x, int y, FrameImage& image,
   StageLog* log = in.log_stages ? &scratch.log : nullptr;
   auto visit = [&rec](const SphereVisit& v) { rec.visit(v); };
   const Ray<T> ray = in.camera.template ray<T>(x, y);
+  const std::uint32_t key = share_key(x, y);  // which copy of a replicated sphere takes the pixel's rays
   rec.begin_ray(ray, RayKind::primary, pixel, 0);
   HitRecord<T> best;
   route_ray(
-      in, ray, rec, scratch,
+      in, ray, key, rec, scratch,
       [&](std::uint32_t u) {
         rec.begin_unit(u);
         UnitAnswer<T> a;
-        a.hit = trace_nearest(in.geometry, in.units[u], ray, visit, log);
+        a.hit = trace_nearest(in.geometry, in.units[u], ray, visit, log, key);
         rec.end_unit(u, a);
         if (a.hit.valid() && closer(a.hit, best)) best = a.hit;
         return false;
@@ -117,11 +118,11 @@ void trace_pixel(const FrameTraceInputs<T>& in, int x, int y, FrameImage& image,
       rec.begin_ray(shadow, RayKind::shadow, pixel, k);
       bool occluded = false;
       route_ray(
-          in, shadow, rec, scratch,
+          in, shadow, key, rec, scratch,
           [&](std::uint32_t u) {
             rec.begin_unit(u);
             UnitAnswer<T> a;
-            a.occluded = trace_any(in.geometry, in.units[u], shadow, visit, log);
+            a.occluded = trace_any(in.geometry, in.units[u], shadow, visit, log, key);
             rec.end_unit(u, a);
             occluded = occluded || a.occluded;
             return occluded;

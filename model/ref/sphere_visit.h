@@ -31,6 +31,18 @@ inline bool closer(const HitRecord<T>& a, const HitRecord<T>& b) {
   return a.prim < b.prim;
 }
 
+// Replicated spheres (--replicate): a sphere may be held by several units, and each ray it
+// would receive is handled by exactly one copy. The rule is by pixel quad (2 x 2 pixels): a
+// pixel's rays (its primary ray and its shadow rays) all have the key of its quad, and copy
+// key mod copies takes them. Quads, not single rays: neighbouring rays walk the same nodes
+// and triangles, so a copy's cache (--sram) sees coherent rays; the key is the quad's
+// column plus its row, so the copies take diagonal stripes of quads, and any part of the
+// image a few quads across is shared evenly, whatever the number of copies.
+inline std::uint32_t share_key(int x, int y) {
+  return static_cast<std::uint32_t>(x / 2) + static_cast<std::uint32_t>(y / 2);
+}
+inline std::uint32_t share_copy(std::uint32_t key, std::uint32_t copies) { return key % copies; }
+
 // One unit's configuration registers for a frame.
 template <typename T>
 struct IuRegisters {
@@ -39,14 +51,24 @@ struct IuRegisters {
   std::vector<Affine<T>> to_local;    // per entry: world -> local of its object
   SphereSoA<T> world_streams;         // `world` again as streams, for the SIMD sphere test
   std::vector<TopNode<T>> top;        // --top bvh: the tree over the entries (empty: flat, ref/top_tree.h)
+  // Replicated spheres (--replicate, balance/replicate.h): per entry the number of copies of
+  // its sphere and which one this unit holds (empty: no entry is a copy). A ray is this copy's
+  // share when share_copy(key, copies) is its copy (mine()).
+  std::vector<std::uint32_t> copies, copy;
 
   std::size_t size() const { return sphere.size(); }
+  // Whether entry i's sphere is this unit's to enter for a ray of share key `key`.
+  bool mine(std::uint32_t i, std::uint32_t key) const {
+    return copies.empty() || copies[i] <= 1 || share_copy(key, copies[i]) == copy[i];
+  }
   void load(const FrameSetup<T>& f, const SceneGeometry<T>& g, const std::vector<std::uint32_t>& spheres) {
     sphere.clear();
     world.clear();
     to_local.clear();
     world_streams.clear();
     top.clear();
+    copies.clear();
+    copy.clear();
     for (std::uint32_t s : spheres) {
       if (!f.visible[s]) continue;  // hidden this frame: the GPP does not write it
       sphere.push_back(s);

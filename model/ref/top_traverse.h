@@ -13,6 +13,9 @@
 //    occluder. Which occluder is found first changes with the order, not whether one is.
 // Work differs from the flat list: node tests are added, sphere tests are only those of the
 // leaves entered, and spheres beyond the nearest hit or the light are never entered.
+// A leaf whose sphere is a copy (--replicate) and the ray not its share is passed over
+// without its sphere test: the unit compares the ray's share key with the entry's copy
+// before the test.
 // The box test needs the ray's reciprocal direction: the GPP computes it once per ray and
 // sends it with the ray (hw/payloads.h), so the unit charges no set-up for it.
 #pragma once
@@ -62,35 +65,47 @@ void report_trailing_nodes(std::uint32_t nodes, Visit& visit) {
 
 template <typename T, typename Visit>
 HitRecord<T> trace_nearest_top(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray,
-                               Visit&& visit, StageLog* log) {
+                               Visit&& visit, StageLog* log, std::uint32_t key) {
   HitRecord<T> best;
+  std::uint32_t carried = 0;  // node tests before a leaf that is another copy's (not a visit)
   const std::uint32_t trailing =
       walk_top(regs, ray, [&] { return best.valid() ? best.t : ray.tmax; }, [&](std::uint32_t i, std::uint32_t nodes) {
+        if (!regs.mine(i, key)) {
+          carried += nodes;
+          return false;
+        }
         SphereVisit v{i, regs.sphere[i], {}};
-        v.nodes_before = nodes;
+        v.nodes_before = nodes + carried;
+        carried = 0;
         v.work.sphere_tests = 1;
         if (hit_sphere(ray, regs.world[i])) keep_closer(mem, v.sphere, nearest_in_sphere(mem, regs, i, ray, v, log), best);
         visit(v);
         return false;
       });
-  report_trailing_nodes(trailing, visit);
+  report_trailing_nodes(trailing + carried, visit);
   return best;
 }
 
 template <typename T, typename Visit>
 bool trace_any_top(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray, Visit&& visit,
-                   StageLog* log) {
+                   StageLog* log, std::uint32_t key) {
   bool occluded = false;
+  std::uint32_t carried = 0;
   const std::uint32_t trailing =
       walk_top(regs, ray, [&] { return ray.tmax; }, [&](std::uint32_t i, std::uint32_t nodes) {
+        if (!regs.mine(i, key)) {
+          carried += nodes;
+          return false;
+        }
         SphereVisit v{i, regs.sphere[i], {}};
-        v.nodes_before = nodes;
+        v.nodes_before = nodes + carried;
+        carried = 0;
         v.work.sphere_tests = 1;
         if (hit_sphere(ray, regs.world[i])) occluded = any_in_sphere(mem, regs, i, ray, v, log);
         visit(v);
         return occluded;
       });
-  report_trailing_nodes(trailing, visit);
+  report_trailing_nodes(trailing + carried, visit);
   return occluded;
 }
 

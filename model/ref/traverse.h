@@ -20,15 +20,18 @@ namespace oprt {
 // against the ray's own tmax, never against the nearest hit so far: the exit stage of a
 // (ray, triangle) pair, and so its cost, is then the same in every unit and in every order
 // (see geom/triangle.h). visit(const SphereVisit&) is called once per sphere tested.
+// `key`: the ray's share key (share_key); a flat unit tests every entry of its registers
+// as it streams them, and does not enter a copy whose share the ray is not (its sphere
+// test is made, and charged, as the entry passes).
 template <typename T, typename Visit>
 HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray,
-                           Visit&& visit, StageLog* log = nullptr) {
-  if (!regs.top.empty()) return trace_nearest_top(mem, regs, ray, visit, log);  // ref/top_traverse.h
+                           Visit&& visit, StageLog* log = nullptr, std::uint32_t key = 0) {
+  if (!regs.top.empty()) return trace_nearest_top(mem, regs, ray, visit, log, key);  // ref/top_traverse.h
   HitRecord<T> best;
   for_each_sphere_test(regs, ray, [&](std::uint32_t i, bool sphere_hit) {
     SphereVisit v{i, regs.sphere[i], {}};
     v.work.sphere_tests = 1;
-    if (sphere_hit) keep_closer(mem, v.sphere, nearest_in_sphere(mem, regs, i, ray, v, log), best);
+    if (sphere_hit && regs.mine(i, key)) keep_closer(mem, v.sphere, nearest_in_sphere(mem, regs, i, ray, v, log), best);
     visit(v);
     return false;
   });
@@ -38,13 +41,13 @@ HitRecord<T> trace_nearest(const SceneGeometry<T>& mem, const IuRegisters<T>& re
 // Any hit in (0, tmax) over the unit's spheres: the unit stops at its first occluder.
 template <typename T, typename Visit>
 bool trace_any(const SceneGeometry<T>& mem, const IuRegisters<T>& regs, const Ray<T>& ray, Visit&& visit,
-               StageLog* log = nullptr) {
-  if (!regs.top.empty()) return trace_any_top(mem, regs, ray, visit, log);  // ref/top_traverse.h
+               StageLog* log = nullptr, std::uint32_t key = 0) {
+  if (!regs.top.empty()) return trace_any_top(mem, regs, ray, visit, log, key);  // ref/top_traverse.h
   bool occluded = false;
   for_each_sphere_test(regs, ray, [&](std::uint32_t i, bool sphere_hit) {
     SphereVisit v{i, regs.sphere[i], {}};
     v.work.sphere_tests = 1;
-    if (sphere_hit) occluded = any_in_sphere(mem, regs, i, ray, v, log);
+    if (sphere_hit && regs.mine(i, key)) occluded = any_in_sphere(mem, regs, i, ray, v, log);
     visit(v);
     return occluded;
   });

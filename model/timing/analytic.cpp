@@ -70,7 +70,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   out.makespan = gpp.run();
   route_figures(frame_, units, out.route);
   *cmd.image = frame_.image;
-  out.per_sphere = frame_.per_sphere;
+  report_work(frame_, out);
   unit_figures(out, timed, fifos, iu);
   return out;
 }

@@ -57,20 +57,24 @@ struct Totals {
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;
   std::vector<UnitCycles> units;
   std::vector<std::array<std::uint64_t, kRayKinds>> node_tests;  // per unit
+  std::vector<std::array<WorkCounts, kRayKinds>> unit_work;      // per unit: its visits' work
+  std::vector<std::uint64_t> sphere_slices, unit_node_slices;     // FunctionalFrame's, [x * kWorkSlices + slice]
 };
 
 template <typename T>
 class Recorder {
  public:
-  Recorder(Chunk<T>& c, Totals& t, const Arch& a, const std::vector<IuRegisters<T>>& regs, bool detail, bool routed)
+  Recorder(Chunk<T>& c, Totals& t, const Arch& a, const std::vector<IuRegisters<T>>& regs, bool detail, bool routed,
+           std::size_t pixels)
       : c_(c), t_(t), arch_(a), regs_(regs), detail_(detail), routed_(routed), node_bytes_(Bytes<T>::node),
-        triangle_bytes_(Bytes<T>::triangle(a.kernel)) {
+        triangle_bytes_(Bytes<T>::triangle(a.kernel)), pixels_(pixels) {
     c_.records_of.assign(regs.size(), 0);
     c_.hits_of.assign(regs.size(), 0);
   }
 
   void begin_ray(const Ray<T>& ray, RayKind kind, std::size_t pixel, std::uint32_t slot) {
     kind_ = static_cast<int>(kind);
+    slice_ = static_cast<std::uint32_t>(pixel * kWorkSlices / pixels_);
     c_.rays.push_back({ray, kind, static_cast<std::uint32_t>(pixel), slot});
     if (kind == RayKind::primary) c_.pixel_rays.push_back(0);
     ++c_.pixel_rays.back();
@@ -81,6 +85,7 @@ class Recorder {
       c_.route_units.push_back(u);
       ++c_.route_count.back();
     }
+    unit_ = u;
     sphere_tests_ = visits_ = node_tests_ = 0;
     spheres_before_ = nodes_before_ = 0;
     bytes_ = 0;
@@ -92,11 +97,15 @@ class Recorder {
     nodes_before_ += v.nodes_before;
     if (v.sphere == kNone) return;  // node tests after the last sphere (top_traverse.h)
     t_.per_sphere[kind_][v.sphere] += v.work;
+    t_.unit_work[unit_][kind_] += v.work;
+    std::uint64_t& in_slice = t_.sphere_slices[v.sphere * kWorkSlices + slice_];
+    in_slice += arch_.costs.sphere;
     ++sphere_tests_;
     ++spheres_before_;
     if (!v.work.transforms) return;
     UnitCycles vc = visit_cycles<T>(v, arch_);
     vc.sphere = 0;  // counted for every visit in sphere_tests_
+    in_slice += vc.busy();
     entered_ += vc;
     ++visits_;
     bytes_ += v.work.tri_tests() * triangle_bytes_ + v.work.box_tests * node_bytes_;
@@ -123,6 +132,7 @@ class Recorder {
     total.sphere += spheres;
     total.node += nodes;
     t_.node_tests[u][kind_] += node_tests_;
+    t_.unit_node_slices[u * kWorkSlices + slice_] += nodes;
     // Every sphere missed (flat: all tested; with a tree: only its root tested, and missed):
     // no record (FunctionalFrame::cycles).
     if (!visits_ && (node_tests_ == 0 || (node_tests_ == 1 && sphere_tests_ == 0))) return;
@@ -171,7 +181,9 @@ class Recorder {
   const std::vector<IuRegisters<T>>& regs_;
   const bool detail_, routed_;
   const std::uint32_t node_bytes_, triangle_bytes_;
+  const std::size_t pixels_;
   int kind_ = 0;
+  std::uint32_t unit_ = 0, slice_ = 0;
   std::uint32_t sphere_tests_ = 0, visits_ = 0, first_visit_ = 0, node_tests_ = 0;
   std::uint32_t spheres_before_ = 0, nodes_before_ = 0;  // tests since the last entered sphere
   std::uint64_t bytes_ = 0;
@@ -220,12 +232,20 @@ void sum_totals(FunctionalFrame<T>& out, const tbb::enumerable_thread_specific<L
   for (auto& k : out.per_sphere) k.assign(spheres, WorkCounts{});
   out.unit_cycles.assign(n_units, UnitCycles{});
   out.unit_node_tests.assign(n_units, {});
+  out.unit_work.assign(n_units, {});
+  out.sphere_slices.assign(spheres * kWorkSlices, 0);
+  out.unit_node_slices.assign(n_units * kWorkSlices, 0);
   for (const Local<T>& l : locals) {
+    for (std::size_t i = 0; i < out.sphere_slices.size(); ++i) out.sphere_slices[i] += l.totals.sphere_slices[i];
+    for (std::size_t i = 0; i < out.unit_node_slices.size(); ++i) out.unit_node_slices[i] += l.totals.unit_node_slices[i];
     for (int k = 0; k < kRayKinds; ++k)
       for (std::size_t s = 0; s < spheres; ++s) out.per_sphere[k][s] += l.totals.per_sphere[k][s];
     for (std::size_t u = 0; u < n_units; ++u) {
       out.unit_cycles[u] += l.totals.units[u];
-      for (int k = 0; k < kRayKinds; ++k) out.unit_node_tests[u][k] += l.totals.node_tests[u][k];
+      for (int k = 0; k < kRayKinds; ++k) {
+        out.unit_node_tests[u][k] += l.totals.node_tests[u][k];
+        out.unit_work[u][k] += l.totals.unit_work[u][k];
+      }
     }
   }
 }
@@ -352,12 +372,15 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
     for (auto& k : l.totals.per_sphere) k.assign(spheres, WorkCounts{});
     l.totals.units.assign(n_units, UnitCycles{});
     l.totals.node_tests.assign(n_units, {});
+    l.totals.unit_work.assign(n_units, {});
+    l.totals.sphere_slices.assign(spheres * kWorkSlices, 0);
+    l.totals.unit_node_slices.assign(n_units * kWorkSlices, 0);
     return l;
   });
   parallel_chunks(pixels, kPixelsPerChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
     throw_if_stopped();
     Local<T>& l = locals.local();
-    Recorder<T> rec(chunks[c], l.totals, arch, units, detail, out.routed);
+    Recorder<T> rec(chunks[c], l.totals, arch, units, detail, out.routed, pixels);
     for (std::size_t p = begin; p < end; ++p)
       trace_pixel(in, static_cast<int>(p % width), static_cast<int>(p / width), out.image, rec, l.scratch);
     chunks[c].shrink();

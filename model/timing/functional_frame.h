@@ -33,7 +33,8 @@ struct UnitRayWork {
   std::uint32_t answer = kNone;  // primary: index into UnitTrace::hits; shadow: kOccluded; else kNone
 };
 constexpr std::uint32_t kOccluded = kNone - 1;
-constexpr std::uint32_t kWaveEnd = 0x8000'0000u;  // a routed ray's last unit of a wave (FunctionalFrame::route_units)
+constexpr std::uint32_t kWaveEnd = 0x8000'0000u;
+constexpr std::uint32_t kWorkSlices = 16;  // FunctionalFrame::sphere_slices  // a routed ray's last unit of a wave (FunctionalFrame::route_units)
 
 // A sphere a unit entered on a ray (detail).
 struct VisitWork {
@@ -95,6 +96,15 @@ struct FunctionalFrame {
   std::vector<std::uint32_t> unit_entries;  // per unit: spheres in its registers this frame
   std::vector<char> unit_top;             // per unit: it walks a tree over its spheres (--top bvh)
   std::vector<std::array<std::uint64_t, kRayKinds>> unit_node_tests;  // per unit and ray kind
+  // Per unit and ray kind: the work of its sphere visits (the per-sphere table's share of
+  // it; a replicated sphere's work lies on several units).
+  std::vector<std::array<WorkCounts, kRayKinds>> unit_work;
+  // When the work lies in the frame: the pixels in kSlices equal runs, in the order the GPP
+  // issues them; per sphere and slice its busy cycles (tests, transforms, boxes,
+  // triangles), per unit and slice its node tests' cycles ([x * kSlices + slice]). The
+  // feedback policy's replication balances when each unit's work arrives, not only how much.
+  static constexpr std::uint32_t kSlices = kWorkSlices;
+  std::vector<std::uint64_t> sphere_slices, unit_node_slices;
   // Routing (ref/route.h; broadcast: empty): ray r went to the units route_units[route_first[r]
   // .. route_first[r + 1]), in order, the last of each wave flagged with kWaveEnd; and how many
   // (ray, unit) pairs `ordered` spared, in all and per ray.

@@ -80,8 +80,23 @@ const typename GppPlan<T>::Config& GppPlan<T>::configure(const FrameCommand& cmd
   registers_.resize(units);
   trees_.resize(arch_.top_tree() ? units : 0);
   config_.bytes.assign(units, 0);
+  // Replicated spheres (a sphere in several units' lists): per entry its copies and which
+  // one the unit holds, the i-th unit in unit order holding it (ref/traverse.h: mine()).
+  std::vector<std::uint32_t> holders(geom_.sphere_count(), 0), seen(geom_.sphere_count(), 0);
+  for (const auto& spheres : assignment_)
+    for (std::uint32_t s : spheres) ++holders[s];
+  const bool replicated = std::any_of(holders.begin(), holders.end(), [](std::uint32_t h) { return h > 1; });
   for (std::size_t u = 0; u < units; ++u) {
     registers_[u].load(*setup_, geom_, assignment_[u]);
+    if (replicated) {
+      for (std::uint32_t s : assignment_[u]) {
+        if (setup_->visible[s]) {
+          registers_[u].copies.push_back(holders[s]);
+          registers_[u].copy.push_back(seen[s]);
+        }
+        ++seen[s];
+      }
+    }
     if (arch_.top_tree())
       config_.refit_nodes += load_top(registers_[u], trees_[u], assignment_[u], *setup_, geom_, &config_.built_nodes);
     config_.bytes[u] = assignment_[u].size() * Bytes<T>::sphere_config + registers_[u].top.size() * Bytes<T>::top_node;

@@ -20,6 +20,7 @@ struct UnitRun {
   std::uint64_t rays = 0;
   std::uint64_t memory_bytes = 0;
   std::uint64_t node_tests[kRayKinds] = {};  // --top bvh
+  WorkCounts work[kRayKinds];                 // its sphere visits' work (ref/work.h)
   bool cache = false;  // its spheres did not fit its object memory (memory.sram_bytes)
   std::uint64_t assigned_bytes = 0;
   CacheCounts memory;  // through the cache; stall: the memory's, whichever it is
@@ -59,7 +60,16 @@ struct FrameRun {
   RouteRun route;
   std::vector<UnitRun> units;
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere], whichever unit did it
+  std::vector<std::uint64_t> sphere_slices, unit_node_slices;  // FunctionalFrame's: when the work lay in the frame
 };
+
+// The frame's work tables a run reports (for the next frame's balance).
+template <typename T>
+void report_work(const FunctionalFrame<T>& f, FrameRun& run) {
+  run.per_sphere = f.per_sphere;
+  run.sphere_slices = f.sphere_slices;
+  run.unit_node_slices = f.unit_node_slices;
+}
 
 // What a level timed of one unit in a frame, beside the trace's work.
 struct UnitTimed {
@@ -99,10 +109,9 @@ UnitRun unit_run(const FunctionalFrame<T>& f, std::uint32_t u, const std::vector
   r.assigned_bytes = assigned_bytes(g, spheres);
   for (int k = 0; k < kRayKinds; ++k) {
     r.node_tests[k] = f.unit_node_tests[u][k];
-    for (std::uint32_t s : spheres) {
-      const WorkCounts& w = f.per_sphere[k][s];
-      r.memory_bytes += w.tri_tests() * Bytes<T>::triangle(a.kernel) + w.box_tests * Bytes<T>::node;
-    }
+    r.work[k] = f.unit_work[u][k];
+    const WorkCounts& w = f.unit_work[u][k];
+    r.memory_bytes += w.tri_tests() * Bytes<T>::triangle(a.kernel) + w.box_tests * Bytes<T>::node;
   }
   return r;
 }

@@ -7,6 +7,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <functional>
+#include <vector>
+
 using namespace oprt::test;
 
 namespace {
@@ -35,8 +39,8 @@ void check_route_figures(const nlohmann::json& f, int units) {
   CHECK(received == pairs);
 }
 
-void every_level(const std::string& iu, const std::string& route) {
-  const fs::path d = temp_dir("route_" + iu + "_" + route);
+void every_level(const std::string& iu, const std::string& route, const std::string& replicate = "off") {
+  const fs::path d = temp_dir("route_" + iu + "_" + route + "_" + replicate);
   const std::string unit = iu == "pipelined" ? " --iu pipelined --accel bvh --top bvh" : " --accel bvh --top flat";
   const fs::path ref = d / "ref";
   REQUIRE(run_oprt("reference " + scene("paper_room.json") + " --frames 0:1 --resolution 20x15 --subdivide 2 --accel bvh --out " +
@@ -48,12 +52,24 @@ void every_level(const std::string& iu, const std::string& route) {
       INFO(iu << " " << route << " " << balance << " " << level);
       const fs::path out = d / (std::string(balance).substr(0, 4) + level);
       REQUIRE(run_oprt("render " + scene("paper_room.json") + " --frames 0:1" + kCommon + unit + " --route " + route +
-                       " --balance " + balance + " --level " + level + " --out " + out.string()).status == 0);
+                       " --balance " + balance + " --level " + level + " --replicate " + replicate +
+                       " --out " + out.string()).status == 0);
       ++renders;
       for (const char* frame : {"frame_0000.exr", "frame_0001.exr"})
         CHECK(oprt::read_exr((out / frame).string()) == oprt::read_exr((ref / frame).string()));
       const nlohmann::json frames = stats(out)["frames"];
       for (const auto& f : frames) check_route_figures(f, 6);
+      if (replicate != "off") {  // copies were made (frame 1 at least), and each is on distinct units
+        std::size_t copies = 0;
+        for (const auto& f : frames)
+          for (const auto& c : f["replicas"]["copies"]) {
+            ++copies;
+            const auto units = c["units"].get<std::vector<int>>();
+            CHECK(units.size() >= 2);
+            CHECK(std::adjacent_find(units.begin(), units.end(), std::greater_equal<int>()) == units.end());
+          }
+        CHECK(copies > 0);
+      }
       if (std::string(level) == "at") {
         at = frames;
         continue;
@@ -83,6 +99,19 @@ TEST_CASE("route: multicast, serial units, every balance and level", "[cli][rout
 TEST_CASE("route: ordered, serial units, every balance and level", "[cli][route]") { every_level("serial", "ordered"); }
 TEST_CASE("route: multicast, pipelined units, every balance and level", "[cli][route]") { every_level("pipelined", "multicast"); }
 TEST_CASE("route: ordered, pipelined units, every balance and level", "[cli][route]") { every_level("pipelined", "ordered"); }
+
+TEST_CASE("route: multicast, serial units, replicated, every balance and level", "[cli][route]") {
+  every_level("serial", "multicast", "auto");
+}
+TEST_CASE("route: ordered, serial units, replicated, every balance and level", "[cli][route]") {
+  every_level("serial", "ordered", "3");
+}
+TEST_CASE("route: multicast, pipelined units, replicated, every balance and level", "[cli][route]") {
+  every_level("pipelined", "multicast", "auto");
+}
+TEST_CASE("route: ordered, pipelined units, replicated, every balance and level", "[cli][route]") {
+  every_level("pipelined", "ordered", "auto");
+}
 
 TEST_CASE("route: what each route sends, skips and costs on the same partition", "[cli][route]") {
   const fs::path d = temp_dir("route_compare");

@@ -93,3 +93,36 @@ TEST_CASE("route: per-sphere bounds let a ray pass between a unit's distant sphe
   CHECK(t.tested() == 1);
   CHECK(t.entered(between, e) == 1);
 }
+
+// Replicated spheres (--replicate): a sphere's own box, outside its units' bounds; a ray
+// that enters it goes to the one copy whose share its key is (copy key mod copies, the
+// copies' units in unit order), merged with the units it enters anyway.
+TEST_CASE("route: a replicated sphere's box addresses exactly one copy, by the ray's key", "[ref][route]") {
+  auto t = three_units(Route::multicast);
+  t.shared_box = {slab_x(8, 9)};
+  t.shared_first = {0, 3};
+  t.shared_units = {0, 2, 3};  // copies on units 0, 2 and 3
+  CHECK(t.tested() == 5);      // four unit bounds and one box per replicated sphere
+  std::vector<RouteTable<float>::Entered> e;
+  // Key 0: copy 0 (unit 0), which the ray enters anyway: its entry stays the nearer (5).
+  REQUIRE(t.entered(along_x, e, 0) == 2);
+  CHECK(units_of(e) == std::vector<std::uint32_t>{0, 1});
+  CHECK(e[0].entry == 5.0f);
+  // Key 1: copy 1 (unit 2), added in unit order at the sphere's entry; key 4 likewise (4 mod 3).
+  for (std::uint32_t key : {1u, 4u}) {
+    REQUIRE(t.entered(along_x, e, key) == 3);
+    CHECK(units_of(e) == std::vector<std::uint32_t>{0, 1, 2});
+    CHECK(e[2].entry == 8.0f);
+  }
+  // Key 2: copy 2 (unit 3, which shows nothing else this frame).
+  REQUIRE(t.entered(along_x, e, 2) == 3);
+  CHECK(units_of(e) == std::vector<std::uint32_t>{0, 1, 3});
+  // Ordered: by entry distance, and a unit is worth a visit only for its own copy's share.
+  t.route = Route::ordered;
+  REQUIRE(t.entered(along_x, e, 2) == 3);
+  CHECK(units_of(e) == std::vector<std::uint32_t>{1, 0, 3});
+  CHECK(t.worth(along_x, 3, 8.5f, 2));
+  CHECK_FALSE(t.worth(along_x, 3, 7.5f, 2));  // a hit at 7.5: the copy's box begins at 8
+  CHECK_FALSE(t.worth(along_x, 3, 8.5f, 1));  // not unit 3's share
+  CHECK(t.worth(along_x, 2, 8.5f, 1));
+}
