@@ -604,6 +604,38 @@ TEST_CASE("aff: BART museum loads its 1024 flying triangles which move", "[aff][
   }
   CHECK(flying == 1024);
   CHECK(s.triangle_count() > 10000);
+
+  // Vertex normals: only pillar.aff's mesh ("normals 5030", "triangles 10000") has them.
+  std::size_t with_normals = 0;
+  for (const Object& o : s.objects) with_normals += o.mesh.triangles_with_normals();
+  CHECK(with_normals == 10000);
+  // Its fm statements' specular colours are 0, 0.3, 0.5 and 0.6 (0.6 0.6 0.4 once); none transmits.
+  for (const Material& m : s.materials) {
+    CHECK_FALSE(m.transmits());
+    CHECK(m.reflect == m.specular);
+    CHECK(m.reflect.x <= 0.6);
+  }
+}
+
+TEST_CASE("aff: the BART kitchen's glass transmits 0.85 with index 1.55", "[aff][bart][materials]") {
+  const std::string path = kBart + "kitchen/kitchen.aff";
+  REQUIRE(fs::exists(path));
+  const Scene s = load_scene(path);
+  // param_glass.aff and param_glass_dragon.aff: "fm ... 0.05 0.05 0.05 ... 0.85 1.55", the only
+  // statements with T > 0; every other material keeps ior 1.
+  std::size_t glass = 0;
+  for (const Material& m : s.materials) {
+    if (m.transmits()) {
+      ++glass;
+      CHECK(m.transmit == Vec3d(0.85));
+      CHECK(m.ior == 1.55);
+      CHECK(m.reflect == Vec3d(0.05));
+    } else {
+      CHECK(m.ior == 1);
+    }
+    CHECK(m.reflect == m.specular);
+  }
+  CHECK(glass == 2);
 }
 
 // ----------------------------------------------------------------------------------------
