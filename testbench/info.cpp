@@ -48,6 +48,35 @@ void print_assignment(const Arch& arch, const Scene& scene, const std::vector<Sp
                 scene_area > 0 ? q.unit_bound[u].surface_area() / scene_area : 1.0);
 }
 
+// The vertex normals and the Whitted terms the file published (scene.h): loaded, not yet
+// traced or interpolated (issue 29).
+void print_normals_and_materials(const Scene& scene) {
+  std::size_t with_normals = 0;
+  for (const Object& o : scene.objects) with_normals += o.mesh.triangles_with_normals();
+  std::printf("normals     %zu of %zu triangles carry vertex normals (shading still flat: interpolated with the "
+              "reflection and refraction rays, issue 29)\n",
+              with_normals, scene.triangle_count());
+  std::vector<bool> used(scene.materials.size(), false);
+  for (const Object& o : scene.objects) used[o.material] = true;
+  std::size_t reflective = 0, transmissive = 0, in_use = 0;
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+    if (!used[m]) continue;
+    ++in_use;
+    reflective += scene.materials[m].reflects();
+    transmissive += scene.materials[m].transmits();
+  }
+  std::printf("materials   %zu used, %zu reflective, %zu transmissive (loaded, not yet traced: issue 29)\n", in_use,
+              reflective, transmissive);
+  if (reflective + transmissive == 0) return;
+  std::printf("%10s  %-28s %26s %26s %8s\n", "material", "name", "reflect", "transmit", "ior");
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+    const Material& mat = scene.materials[m];
+    if (!used[m] || !(mat.reflects() || mat.transmits())) continue;
+    std::printf("%10zu  %-28.28s (%6.4g, %6.4g, %6.4g) (%6.4g, %6.4g, %6.4g) %8.4g\n", m, mat.name.c_str(),
+                mat.reflect.x, mat.reflect.y, mat.reflect.z, mat.transmit.x, mat.transmit.y, mat.transmit.z, mat.ior);
+  }
+}
+
 }  // namespace
 
 int run_info(const CommonOptions& o, const RenderOptions& arch_options) {
@@ -83,6 +112,7 @@ int run_info(const CommonOptions& o, const RenderOptions& arch_options) {
   std::printf("objects     %zu\n", scene.objects.size());
   std::printf("spheres     %zu (split %s, subdivide %d)\n", spheres.size(), to_string(split), arch.subdivide);
   for (const auto& n : scene.notes) std::printf("note        %s\n", n.c_str());
+  print_normals_and_materials(scene);
   // Radius in the object's units and in the world's (times the object's stretch at frame
   // 0); area and SA x N are the world's, as the balance estimates use them.
   std::printf("\n%6s %6s  %-20s %30s %10s %10s %12s %8s %14s\n", "sphere", "object", "name", "centre (local)",

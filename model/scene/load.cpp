@@ -98,7 +98,23 @@ void validate_scene(const Scene& s) {
         if (k >= o.mesh.vertices.size())
           throw InputError(f, where + " triangle " + std::to_string(t),
                            "vertex index " + std::to_string(k) + " out of range");
+    if (!o.mesh.normal_index.empty() && o.mesh.normal_index.size() != o.mesh.triangles.size())
+      throw InputError(f, where, "vertex normal indices are not one per triangle");
+    for (std::size_t t = 0; t < o.mesh.normal_index.size(); ++t)
+      for (std::uint32_t k : o.mesh.normal_index[t])
+        if (k != kNoNormal && k >= o.mesh.normals.size())
+          throw InputError(f, where + " triangle " + std::to_string(t),
+                           "normal index " + std::to_string(k) + " out of range");
+    for (std::size_t n = 0; n < o.mesh.normals.size(); ++n)
+      if (!all_finite(o.mesh.normals[n]))
+        throw InputError(f, where + " normal " + std::to_string(n), "normal is not finite");
     if (!o.motion) throw InputError(f, where, "object has no motion");
+  }
+  for (std::size_t i = 0; i < s.materials.size(); ++i) {
+    const Material& m = s.materials[i];
+    const std::string where = "material " + std::to_string(i) + " (\"" + m.name + "\")";
+    if (!all_finite(m.reflect) || !all_finite(m.transmit) || !std::isfinite(m.ior))
+      throw InputError(f, where, "reflection, transmission or index of refraction is not finite");
   }
   check_motions(s, 0, 0);
   for (std::size_t i = 0; i < s.lights.size(); ++i)

@@ -441,10 +441,12 @@ std::vector<std::vector<std::uint32_t>> split_spatially(const Mesh& m, std::size
   return parts;
 }
 
-// The listed triangles with only the vertices they use, renumbered in order of first use.
+// The listed triangles with only the vertices (and vertex normals) they use, renumbered in
+// order of first use.
 Mesh submesh(const Mesh& m, const std::vector<std::uint32_t>& tris) {
   Mesh out;
   std::vector<std::uint32_t> remap(m.vertices.size(), UINT32_MAX);
+  std::vector<std::uint32_t> nremap(m.normals.size(), UINT32_MAX);
   out.triangles.reserve(tris.size());
   for (std::uint32_t t : tris) {
     Tri nt;
@@ -457,8 +459,37 @@ Mesh submesh(const Mesh& m, const std::vector<std::uint32_t>& tris) {
       nt[k] = r;
     }
     out.triangles.push_back(nt);
+    if (m.normal_index.empty()) continue;
+    Tri ni = m.normal_index[t];
+    if (ni[0] != kNoNormal) {
+      for (int k = 0; k < 3; ++k) {
+        std::uint32_t& r = nremap[ni[k]];
+        if (r == UINT32_MAX) {
+          r = static_cast<std::uint32_t>(out.normals.size());
+          out.normals.push_back(m.normals[ni[k]]);
+        }
+        ni[k] = r;
+      }
+    }
+    out.normal_index.push_back(ni);
   }
+  // A part whose triangles all lack normals carries none.
+  if (out.normals.empty()) out.normal_index.clear();
   return out;
+}
+
+// Corner normals indexed like the triangles; a triangle with a zero normal at a corner gets
+// none (kNoNormal) and counts in `flat`.
+void set_normals(Mesh& m, std::vector<Vec3d> normals, const std::vector<Tri>& index, std::size_t& flat) {
+  m.normals = std::move(normals);
+  m.normal_index.clear();
+  m.normal_index.reserve(index.size());
+  for (const Tri& t : index) {
+    bool ok = true;
+    for (std::uint32_t k : t) ok = ok && m.normals[k] != Vec3d(0);
+    if (!ok) ++flat;
+    m.normal_index.push_back(ok ? t : Tri{kNoNormal, kNoNormal, kNoNormal});
+  }
 }
 
 // Open side surface of a cone or cylinder from `base` (radius rb) to `apex` (radius ra).
@@ -564,6 +595,10 @@ class AffReader {
     const std::string w = file + ": line " + std::to_string(line) + ": " + text;
     if (warning_set_.insert(w).second) warnings_.push_back(w);
   }
+  void note_normals() {
+    note("vertex normals read (oprt info counts the triangles that carry them); shading is still flat until "
+         "the reflection and refraction rays of issue 29 interpolate them");
+  }
   void time_quirks(const std::string& file, int line, const std::string& list, const std::vector<double>& times,
                    const std::vector<int>& lines, bool steps);
   std::uint32_t material() {
@@ -582,7 +617,8 @@ class AffReader {
   std::vector<Node> nodes_;
   std::vector<int> stack_{0};  // open transform nodes; the world at the bottom
   std::vector<MaterialInfo> materials_;
-  std::map<std::array<double, 7>, std::uint32_t> material_index_;
+  std::map<std::array<double, 9>, std::uint32_t> material_index_;
+  std::size_t flat_normal_triangles_ = 0;  // triangles with a zero vertex normal (flat)
   int current_material_ = -1;
   std::map<std::pair<int, std::uint32_t>, Mesh> rigid_;       // (group, material)
   std::map<std::pair<int, std::uint32_t>, TpaTrack> tpa_;     // (group, material)
@@ -641,8 +677,9 @@ void AffReader::time_quirks(const std::string& file, int line, const std::string
 }
 
 std::uint32_t AffReader::add_material(const MaterialInfo& mi) {
-  const std::array<double, 7> key{mi.m.diffuse.x, mi.m.diffuse.y, mi.m.diffuse.z, mi.m.specular.x,
-                                  mi.m.specular.y, mi.m.specular.z, mi.m.shininess};
+  // reflect is the specular colour (fill()): the key holds it once.
+  const std::array<double, 9> key{mi.m.diffuse.x,  mi.m.diffuse.y,  mi.m.diffuse.z,   mi.m.specular.x, mi.m.specular.y,
+                                  mi.m.specular.z, mi.m.shininess, mi.m.transmit.x, mi.m.ior};
   const auto it = material_index_.find(key);
   if (it != material_index_.end()) return it->second;
   const auto i = static_cast<std::uint32_t>(materials_.size());
@@ -847,11 +884,14 @@ void AffReader::light(Cursor& c, const Stmt& s, bool animated) {
 //   (metals with kd = 0, for one) get an ambient term that is too dark or too bright.
 // - `f` (NFF): diffuse = Kd x colour, specular = Ks x white (NFF highlights are white),
 //   shininess = Shine.
-// T (transmittance) and the index of refraction have no counterpart (no refraction, no
-// reflection rays in the engine): they are read and dropped.
+// The Whitted terms, as NFF (whose `f` this is) means them: in Whitted's model (CACM 1980,
+// I = Ia + kd sum(N.L) + ks S + kt T) the specular coefficient weights the reflected ray S and
+// T the refracted one. So reflect = the specular colour (fm) or Ks x white (f), transmit =
+// T x white, ior = the index of refraction (1 where T is 0: BART's files write 0 there, an
+// index nothing uses). No ray is traced with them yet: they are loaded for the recursion of
+// issue 29 and listed by `oprt info` (docs/aff.md, "Materials").
 void AffReader::fill(Cursor& c, const Stmt& s, bool extended) {
   MaterialInfo mi;
-  double transmit = 0;
   if (extended) {
     mi.ka = c.vec3(s, "ambient colour");
     mi.has_ka = true;
@@ -867,9 +907,14 @@ void AffReader::fill(Cursor& c, const Stmt& s, bool extended) {
   const int shine_line = c.line();
   mi.m.shininess = c.number(s, "Phong exponent (Shine)");
   if (mi.m.shininess < 0 || mi.m.shininess > 1e6) c.fail(shine_line, "Phong exponent must be in [0, 1e6]");
-  transmit = c.number(s, "transmittance T");
-  c.number(s, "index of refraction");
-  if (transmit != 0) note("material transmittance and index of refraction ignored (no refraction)");
+  const double transmit = c.number(s, "transmittance T");
+  const double ior = c.number(s, "index of refraction");
+  mi.m.reflect = mi.m.specular;
+  mi.m.transmit = Vec3d(transmit);
+  mi.m.ior = transmit != 0 ? ior : 1.0;
+  if (mi.m.reflects() || transmit != 0)
+    note("materials' reflection (specular colour) and transmittance with index of refraction read; not yet traced "
+         "(no reflection or refraction rays: issue 29)");
   mi.m.name = std::filesystem::path(c.file()).filename().string() + ":" + std::to_string(s.line);
   current_material_ = static_cast<int>(add_material(mi));
 }
@@ -879,27 +924,35 @@ void AffReader::polygon(Cursor& c, const Stmt& s, bool patch) {
   const std::size_t n = c.count(s, "vertex count", patch ? 6 : 3);
   if (n < 3) c.fail(at, "a polygon needs at least 3 vertices, found " + std::to_string(n));
   Mesh m;
+  std::vector<Vec3d> normals;
   for (std::size_t i = 0; i < n; ++i) {
     m.vertices.push_back(c.vec3(s, "vertex " + std::to_string(i)));
-    if (patch) c.vec3(s, "normal " + std::to_string(i));
+    if (patch) normals.push_back(unit_or_zero(c.vec3(s, "normal " + std::to_string(i))));
   }
-  if (patch) note("vertex normals ignored (flat shading)");
   for (std::uint32_t i = 1; i + 1 < n; ++i) m.triangles.push_back({0, i, i + 1});  // fan
+  if (patch) {
+    set_normals(m, std::move(normals), m.triangles, flat_normal_triangles_);
+    note_normals();
+  }
   emit(c, s, m);
 }
 
 void AffReader::textured(Cursor& c, const Stmt& s, bool patch) {
   c.word(s, "a texture name");
   Mesh m;
+  std::vector<Vec3d> normals;
   for (int i = 0; i < 3; ++i) {
     m.vertices.push_back(c.vec3(s, "vertex " + std::to_string(i)));
-    if (patch) c.vec3(s, "normal " + std::to_string(i));
+    if (patch) normals.push_back(unit_or_zero(c.vec3(s, "normal " + std::to_string(i))));
     c.number(s, "texture u");
     c.number(s, "texture v");
   }
   m.triangles.push_back({0, 1, 2});
   note("textures ignored: textured triangles and texture coordinates load as plain geometry");
-  if (patch) note("vertex normals ignored (flat shading)");
+  if (patch) {
+    set_normals(m, std::move(normals), m.triangles, flat_normal_triangles_);
+    note_normals();
+  }
   emit(c, s, m);
 }
 
@@ -916,12 +969,14 @@ void AffReader::mesh(Cursor& c, const Stmt& s) {
   for (std::size_t i = 0; i < nv; ++i) m.vertices.push_back(c.vec3(s, "vertex " + std::to_string(i)));
   std::size_t nn = 0, nt = 0;
   bool normals = false, texcoords = false;
+  std::vector<Vec3d> normal_list;
   if (!c.done() && c.peek().text == "normals") {
     c.skip();
     normals = true;
     nn = c.count(s, "normal count", 3);
-    for (std::size_t i = 0; i < nn; ++i) c.vec3(s, "normal " + std::to_string(i));
-    note("vertex normals ignored (flat shading)");
+    normal_list.reserve(nn);
+    for (std::size_t i = 0; i < nn; ++i) normal_list.push_back(unit_or_zero(c.vec3(s, "normal " + std::to_string(i))));
+    note_normals();
   }
   if (!c.done() && c.peek().text == "texturecoords") {
     c.skip();
@@ -938,6 +993,7 @@ void AffReader::mesh(Cursor& c, const Stmt& s) {
   const std::size_t per = 3 + (normals ? 3 : 0) + (texcoords ? 3 : 0);
   const std::size_t ntri = c.count(s, "triangle count", per);
   m.triangles.reserve(ntri);
+  std::vector<Tri> normal_index;
   auto index = [&](const char* what, const char* plural, std::size_t limit, std::size_t tri) {
     const int at = c.line();
     const long long v = c.integer(s, std::string(what) + " index", LLONG_MIN, LLONG_MAX);
@@ -949,12 +1005,16 @@ void AffReader::mesh(Cursor& c, const Stmt& s) {
   for (std::size_t i = 0; i < ntri; ++i) {
     Tri t;
     for (int k = 0; k < 3; ++k) t[k] = index("vertex", "vertices", nv, i);
-    if (normals)
-      for (int k = 0; k < 3; ++k) index("normal", "normals", nn, i);
+    if (normals) {  // BART's order: the three vertex indices, then the three normal indices
+      Tri n;
+      for (int k = 0; k < 3; ++k) n[k] = index("normal", "normals", nn, i);
+      normal_index.push_back(n);
+    }
     if (texcoords)
       for (int k = 0; k < 3; ++k) index("texture coordinate", "texture coordinates", nt, i);
     m.triangles.push_back(t);
   }
+  if (normals) set_normals(m, std::move(normal_list), normal_index, flat_normal_triangles_);
   emit(c, s, m);
 }
 
@@ -981,7 +1041,7 @@ void AffReader::animated_triangle(Cursor& c, const Stmt& s) {
     }
   }
   tr.first.push_back(static_cast<std::uint32_t>(tr.times.size()));
-  note("vertex normals ignored (flat shading)");
+  note("vertex normals of animated triangles ('tpa') ignored: they move with the keys (flat shading)");
   if (back)  // one warning per file, however many of its triangles do this (see read())
     tpa_backwards_.try_emplace(c.file(), *back).first->second.lists.insert(s.line);
 }
@@ -1240,6 +1300,8 @@ Scene AffReader::read(const std::string& path) {
     if (!used_anims.count(name)) note("keyframes 'k " + name + "' animate nothing (no 'x " + name + "')");
 
   warn_tpa_backwards();
+  if (flat_normal_triangles_)
+    note(std::to_string(flat_normal_triangles_) + " triangles with a zero-length vertex normal: shaded flat");
   s.notes = notes_;
   s.warnings = warnings_;
   validate_scene(s);

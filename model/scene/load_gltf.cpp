@@ -33,6 +33,13 @@
 //   diffuse = base (1 - metallic / 2), specular = mix(0.2, base, metallic) (1 - roughness),
 //   shininess = 2 / a^2 - 2 with a = roughness^2 (the Blinn-Phong <-> GGX correspondence),
 //   clamped to [1, 1000]. Primitives without a material get oprt's default material.
+//   Whitted terms (loaded, not yet traced): metallic 1 with roughness 0 is a mirror, reflect =
+//   base; KHR_materials_transmission's transmissionFactor -> transmit; KHR_materials_ior's ior
+//   -> ior (default 1.5 for a transmitting material, glTF's dielectric index; 1 otherwise).
+//   Not mapped: textures, roughness between 0 and 1 (no glossy reflection), partial
+//   metallic, KHR_materials_specular, _volume, _clearcoat and the others (one note).
+// - Vertex normals: NORMAL, unit length after normalising, per triangle corner (scene.h);
+//   primitives without NORMAL have flat triangles.
 // - Refused with an InputError: skins, morph targets (and weight animation), sparse accessors,
 //   accessors without a buffer view, required extensions other than KHR_lights_punctual,
 //   KHR_materials_* and KHR_texture_*.
@@ -179,6 +186,8 @@ bool read_file_bytes(const std::string& path, std::vector<std::uint8_t>& out) {
   return !in.bad();
 }
 
+// The Phong terms from the metallic-roughness factors; the Whitted terms (reflect, transmit,
+// ior) are set by read_materials.
 Material pbr_to_phong(const std::string& name, const Vec3d& base, double metallic, double roughness) {
   Material m;
   m.name = name;
@@ -269,6 +278,7 @@ class GltfReader {
     std::uint32_t material;
     Mesh mesh;
     std::map<std::size_t, std::vector<std::uint32_t>> remap;  // POSITION accessor -> mesh vertex
+    std::map<std::size_t, std::vector<std::uint32_t>> nremap;  // NORMAL accessor -> mesh normal
   };
   const std::vector<Group>& mesh_groups(std::size_t mesh);
   void add_mesh_objects(std::size_t node, Scene& s);
@@ -295,6 +305,7 @@ class GltfReader {
   std::string last_key_place_;
   std::uint32_t default_material_ = kNone;
   bool camera_found_ = false;
+  bool normals_read_ = false;
   std::vector<LightSource> lights_;
   Notes notes_;
 };
@@ -685,7 +696,7 @@ std::vector<GltfLocal> GltfReader::chain(std::size_t node) {
 
 void GltfReader::read_materials() {
   // Every material is read (and checked) whether used or not; Object::material indexes them.
-  bool textures = false, extensions = false;
+  bool textures = false, ignored_extensions = false;
   for (std::size_t i = 0; i < materials_j_.size(); ++i) {
     const JsonIn m = materials_j_[i];
     Vec3d base(1);
@@ -702,11 +713,34 @@ void GltfReader::read_materials() {
       textures = textures || pbr->has("baseColorTexture") || pbr->has("metallicRoughnessTexture");
     }
     textures = textures || m.has("normalTexture") || m.has("occlusionTexture") || m.has("emissiveTexture");
-    extensions = extensions || m.has("extensions");
-    materials_.push_back(pbr_to_phong(m.string_or("name", "material" + std::to_string(i)), base, metallic, roughness));
+    Material mat = pbr_to_phong(m.string_or("name", "material" + std::to_string(i)), base, metallic, roughness);
+    // A perfect metal mirrors its base colour; rougher or partly metallic surfaces reflect
+    // diffusely and get no mirror weight.
+    if (metallic == 1 && roughness == 0) mat.reflect = base;
+    std::optional<double> ior;
+    if (auto ext = m.find("extensions")) {
+      for (const auto& [name, e] : ext->members()) {
+        if (name == "KHR_materials_transmission") {
+          e.only_keys({"transmissionFactor", "transmissionTexture", "extensions", "extras"});
+          mat.transmit = Vec3d(e.number_or("transmissionFactor", 0, 0, 1));
+          textures = textures || e.has("transmissionTexture");
+        } else if (name == "KHR_materials_ior") {
+          e.only_keys({"ior", "extensions", "extras"});
+          ior = e.number_or("ior", 1.5, 1, 10);
+        } else {
+          ignored_extensions = true;
+        }
+      }
+    }
+    // glTF's dielectrics have an index of 1.5 unless KHR_materials_ior says otherwise; the index
+    // matters only to a material that transmits.
+    mat.ior = ior ? *ior : (mat.transmits() ? 1.5 : 1.0);
+    materials_.push_back(mat);
   }
   if (textures) notes_.add("textures", "textures are ignored: materials use their colour factors only");
-  if (extensions) notes_.add("material extensions", "material extensions (KHR_materials_*) are ignored");
+  if (ignored_extensions)
+    notes_.add("material extensions", "material extensions other than KHR_materials_transmission and "
+                                      "KHR_materials_ior are ignored");
 }
 
 const std::vector<GltfReader::Group>& GltfReader::mesh_groups(std::size_t mi) {
@@ -728,6 +762,16 @@ const std::vector<GltfReader::Group>& GltfReader::mesh_groups(std::size_t mi) {
     const std::size_t pa = ref(attributes.at("POSITION"), accessors_j_, "accessor");
     const std::vector<double> pos = read_floats(pa, 3, false, "POSITION of " + p.place());
     const std::size_t nverts = pos.size() / 3;
+    // NORMAL: one per vertex (float, or normalized integers under KHR_mesh_quantization).
+    std::size_t na = kNone;
+    std::vector<double> nrm;
+    if (auto nj = attributes.find("NORMAL")) {
+      na = ref(*nj, accessors_j_, "accessor");
+      nrm = read_floats(na, 3, true, "NORMAL of " + p.place());
+      if (nrm.size() != pos.size())
+        nj->fail("NORMAL has " + std::to_string(nrm.size() / 3) + " elements, POSITION " + std::to_string(nverts) +
+                 ": a normal per vertex is required");
+    }
     std::vector<std::uint32_t> idx;
     std::string idx_place = attributes.at("POSITION").place();
     if (auto ij = p.find("indices")) {
@@ -767,23 +811,48 @@ const std::vector<GltfReader::Group>& GltfReader::mesh_groups(std::size_t mi) {
       material = default_material_;
     }
     auto g = std::find_if(groups.begin(), groups.end(), [&](const Group& x) { return x.material == material; });
-    if (g == groups.end()) g = groups.insert(groups.end(), Group{material, {}, {}});
+    if (g == groups.end()) g = groups.insert(groups.end(), Group{material, {}, {}, {}});
     // Only the vertices the triangles use join the object (they decide its bounding sphere);
     // primitives sharing a POSITION accessor share their vertices.
     std::vector<std::uint32_t>& remap = g->remap[pa];
     remap.resize(nverts, kNone);
+    // Normals are indexed per corner (scene.h), so primitives sharing POSITION but not NORMAL
+    // keep their vertices shared as before.
+    Mesh& gm = g->mesh;
+    if (na != kNone) gm.normal_index.resize(gm.triangles.size(), Tri{kNoNormal, kNoNormal, kNoNormal});
+    std::vector<std::uint32_t>* nremap = na != kNone ? &g->nremap[na] : nullptr;
+    if (nremap) nremap->resize(nverts, kNone);
     for (const Tri& t : tris) {
       Tri out;
       for (int k = 0; k < 3; ++k) {
         std::uint32_t& r = remap[t[k]];
         if (r == kNone) {
-          r = static_cast<std::uint32_t>(g->mesh.vertices.size());
-          g->mesh.vertices.push_back({pos[3 * t[k]], pos[3 * t[k] + 1], pos[3 * t[k] + 2]});
+          r = static_cast<std::uint32_t>(gm.vertices.size());
+          gm.vertices.push_back({pos[3 * t[k]], pos[3 * t[k] + 1], pos[3 * t[k] + 2]});
         }
         out[k] = r;
       }
-      g->mesh.triangles.push_back(out);
+      gm.triangles.push_back(out);
+      if (!nremap) continue;
+      Tri nout;
+      bool ok = true;
+      for (int k = 0; k < 3; ++k) {
+        std::uint32_t& r = (*nremap)[t[k]];
+        if (r == kNone) {
+          r = static_cast<std::uint32_t>(gm.normals.size());
+          gm.normals.push_back(unit_or_zero({nrm[3 * t[k]], nrm[3 * t[k] + 1], nrm[3 * t[k] + 2]}));
+        }
+        nout[k] = r;
+        ok = ok && gm.normals[r] != Vec3d(0);
+      }
+      if (!ok) notes_.add("zero normal", "a triangle with a zero NORMAL (" + p.place() + ") is shaded flat");
+      gm.normal_index.push_back(ok ? nout : Tri{kNoNormal, kNoNormal, kNoNormal});
     }
+  }
+  for (Group& g : groups) {
+    // Primitives without NORMAL after one with: their triangles carry none.
+    if (!g.mesh.normal_index.empty()) g.mesh.normal_index.resize(g.mesh.triangles.size(), Tri{kNoNormal, kNoNormal, kNoNormal});
+    normals_read_ = normals_read_ || !g.mesh.normal_index.empty();
   }
   return mesh_groups_.emplace(mi, std::move(groups)).first->second;
 }
@@ -1005,6 +1074,9 @@ Scene GltfReader::read() {
     s.frame_count = static_cast<int>(frames);
   }
   finish_lights_and_camera(s);
+  if (normals_read_)
+    notes_.add("normals", "vertex normals (NORMAL) read (oprt info counts the triangles that carry them); shading "
+                          "is still flat until the reflection and refraction rays of issue 29 interpolate them");
   s.notes = notes_.lines();
   validate_scene(s);
   return s;

@@ -118,6 +118,15 @@ Mesh read_mesh(const JsonIn& mj, const std::string& scene_file, MeshBudget& budg
   mj.fail("a mesh needs \"obj\", \"vertices\" and \"triangles\", \"generate\", or \"parts\"");
 }
 
+// A weight per channel in [0, 1]: one number for all three, or [r, g, b].
+Vec3d read_weight(const JsonIn& w) {
+  if (w.is_number()) return Vec3d(w.number(0, 1));
+  if (!w.is_array()) w.fail("expected a number or 3 numbers [r, g, b]");
+  const auto c = w.items();
+  if (c.size() != 3) w.fail("expected a number or 3 numbers [r, g, b], found " + std::to_string(c.size()) + " numbers");
+  return {c[0].number(0, 1), c[1].number(0, 1), c[2].number(0, 1)};
+}
+
 Camera read_camera_fields(const JsonIn& c, const Camera& base) {
   Camera cam = base;
   cam.eye = c.vec3_or("eye", base.eye);
@@ -178,12 +187,15 @@ Scene load_oprt_json(const std::string& path) {
   std::map<std::string, std::uint32_t> material_index;
   if (auto mats = root.find("materials")) {
     for (const auto& [name, mj] : mats->members()) {
-      mj.only_keys({"diffuse", "specular", "shininess"});
+      mj.only_keys({"diffuse", "specular", "shininess", "reflect", "transmit", "ior"});
       Material m;
       m.name = name;
       m.diffuse = mj.vec3_or("diffuse", m.diffuse);
       m.specular = mj.vec3_or("specular", m.specular);
       m.shininess = mj.number_or("shininess", m.shininess, 0, 1e6);
+      if (auto r = mj.find("reflect")) m.reflect = read_weight(*r);
+      if (auto t = mj.find("transmit")) m.transmit = read_weight(*t);
+      m.ior = mj.number_or("ior", m.ior, 1, 10);
       material_index[name] = static_cast<std::uint32_t>(s.materials.size());
       s.materials.push_back(m);
     }

@@ -11,11 +11,22 @@
 
 namespace oprt {
 
+// Phong shading uses diffuse, specular and shininess. reflect, transmit and ior are the
+// Whitted terms as the files publish them (AFF: the specular colour Ks, Whitted's weight of the
+// reflected ray, the transmittance T and the index of refraction; the scene JSON's "reflect" /
+// "transmit" / "ior"; glTF: a perfect metal, the transmission and ior extensions). They are loaded,
+// checked and listed by `oprt info`; no ray is traced with them yet (issue 29, item 1), so
+// they change no image.
 struct Material {
   std::string name;
   Vec3d diffuse{0.8};
   Vec3d specular{0};
   double shininess = 32;
+  Vec3d reflect{0};   // weight of the mirror-reflected ray, per channel, in [0, 1]
+  Vec3d transmit{0};  // weight of the refracted ray, per channel, in [0, 1]
+  double ior = 1;     // index of refraction of the material's inside (1: none)
+  bool reflects() const { return reflect.x > 0 || reflect.y > 0 || reflect.z > 0; }
+  bool transmits() const { return transmit.x > 0 || transmit.y > 0 || transmit.z > 0; }
 };
 
 struct PointLight {
@@ -66,11 +77,33 @@ class KeyframeCamera final : public CameraPath {
 
 using Tri = std::array<std::uint32_t, 3>;
 
+// Vertex normals as the file publishes them, per triangle corner (as BART's indexed meshes and
+// OBJ give them: a vertex on a crease has one normal per side): corner k of triangle t has the
+// normal normals[normal_index[t][k]]. normal_index is empty when no triangle has normals, else
+// parallel to triangles, with kNoNormal in every corner of a triangle without normals (shaded
+// flat). Normals are unit length, in the same frame as the vertices. Shading is still flat:
+// they are kept for the shading and the reflected and refracted directions of issue 29.
+constexpr std::uint32_t kNoNormal = 0xffffffffu;
+
 struct Mesh {
   std::vector<Vec3d> vertices;
   std::vector<Tri> triangles;
+  std::vector<Vec3d> normals;
+  std::vector<Tri> normal_index;
+  bool has_normals(std::size_t t) const { return !normal_index.empty() && normal_index[t][0] != kNoNormal; }
+  std::size_t triangles_with_normals() const;
+  // `other` placed by `placed`: its vertices as points, its normals by the inverse transpose
+  // of placed's linear part, renormalised (placed must be invertible).
   void append(const Mesh& other, const Affine<double>& placed = Affine<double>::identity());
 };
+
+// A vertex normal as a file writes it, made unit length; a zero one stays zero (its triangles
+// are then given no normals: the loaders shade them flat).
+Vec3d unit_or_zero(const Vec3d& n);
+
+// The normal n (unit or not) carried by `a`: the inverse transpose of a's linear part,
+// renormalised; a zero vector if a is singular or n is zero.
+Vec3d transform_normal(const Affine<double>& a, const Vec3d& n);
 
 // Non-rigid geometry (BART's per-vertex animated triangles, `tpa`): vertex positions in the
 // object's local frame that change with the frame. The engine re-bounds such an object

@@ -529,3 +529,26 @@ TEST_CASE("cli: a tolerated BART quirk warns on stderr, a bad glTF uri exits 2 w
         std::string::npos);
   CHECK(r.output.size() < 500);
 }
+
+TEST_CASE("cli: info lists the reflective and transmissive materials and the vertex normals, a bad ior exits 2",
+          "[cli][issue29][info]") {
+  const fs::path d = temp_dir("whitted");
+  // f: Ks 0.3 reflects, T 0.5 with index 1.5 transmits; a pp patch carries normals, a p does not.
+  std::ofstream(d / "glass.aff") << "v from 0 0 5 at 0 0 0 up 0 1 0 angle 45 hither 0.1 resolution 8 8\n"
+                                    "l 0 0 5\nf 1 1 1 0.5 0.3 10 0.5 1.5\n"
+                                    "pp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n"
+                                    "fm 0 0 0 0.5 0.5 0.5 0 0 0 1 0 0\np 3\n0 0 1\n1 0 1\n0 1 1\n";
+  Result r = run_oprt("info " + (d / "glass.aff").string());
+  CHECK(r.status == 0);
+  CHECK(r.output.find("normals     1 of 2 triangles carry vertex normals") != std::string::npos);
+  CHECK(r.output.find("materials   2 used, 1 reflective, 1 transmissive") != std::string::npos);
+  CHECK(r.output.find("(   0.3,    0.3,    0.3) (   0.5,    0.5,    0.5)      1.5") != std::string::npos);
+
+  const std::string head = R"({"format": "oprt-scene/1", "camera": {"eye": [0, 0, 5], "target": [0, 0, 0]},)";
+  const std::string tri = R"("objects": [{"material": "m", "mesh": {"vertices": [[0,0,0],[1,0,0],[0,1,0]], "triangles": [[0,1,2]]}}]})";
+  std::ofstream(d / "bad.json") << head + R"( "materials": {"m": {"ior": 0.5}}, )" + tri;
+  r = run_oprt("info " + (d / "bad.json").string());
+  CHECK(r.status == 2);
+  CHECK(r.output.find((d / "bad.json").string() + ": /materials/m/ior: value 0.5 is out of range [1, 10]") !=
+        std::string::npos);
+}

@@ -232,6 +232,8 @@ TEST_CASE("aff: every construct loads with its known contents", "[aff]") {
   CHECK(s.materials[red.material].shininess == 10);
 
   CHECK(named(s, "static/m1").mesh.triangles.size() == 277);  // tt ttp pp m s c c
+  CHECK(named(s, "static/m1").mesh.triangles_with_normals() == 4);  // ttp pp m (2)
+  CHECK(s.materials[red.material].reflect == Vec3d(0.2));  // f: Ks, BART's reflection weight
 
   // outer: x = t. inner: 22.5 t degrees about y, after +5 along x, inside outer.
   const Object& outer = named(s, "outer/m2");
@@ -280,7 +282,7 @@ TEST_CASE("aff: every construct loads with its known contents", "[aff]") {
   CHECK(s.lights[0].at(0) == Vec3d(3, 3, 3));
 
   CHECK(has_note(s, "textures ignored"));
-  CHECK(has_note(s, "vertex normals ignored"));
+  CHECK(has_note(s, "vertex normals read"));
   CHECK(has_note(s, "spheres tessellated: 224 triangles"));
   CHECK(has_note(s, "cones tessellated"));
   // inner's visibility keys: hidden from t = 1, shown again from t = 2 (frame f is t = f).
@@ -602,4 +604,176 @@ TEST_CASE("aff: BART museum loads its 1024 flying triangles which move", "[aff][
   }
   CHECK(flying == 1024);
   CHECK(s.triangle_count() > 10000);
+
+  // Vertex normals: only pillar.aff's mesh ("normals 5030", "triangles 10000") has them.
+  std::size_t with_normals = 0;
+  for (const Object& o : s.objects) with_normals += o.mesh.triangles_with_normals();
+  CHECK(with_normals == 10000);
+  // Its fm statements' specular colours are 0, 0.3, 0.5 and 0.6 (0.6 0.6 0.4 once); none transmits.
+  for (const Material& m : s.materials) {
+    CHECK_FALSE(m.transmits());
+    CHECK(m.reflect == m.specular);
+    CHECK(m.reflect.x <= 0.6);
+  }
+}
+
+TEST_CASE("aff: the BART kitchen's glass transmits 0.85 with index 1.55", "[aff][bart][materials]") {
+  const std::string path = kBart + "kitchen/kitchen.aff";
+  REQUIRE(fs::exists(path));
+  const Scene s = load_scene(path);
+  // param_glass.aff and param_glass_dragon.aff: "fm ... 0.05 0.05 0.05 ... 0.85 1.55", the only
+  // statements with T > 0; every other material keeps ior 1.
+  std::size_t glass = 0;
+  for (const Material& m : s.materials) {
+    if (m.transmits()) {
+      ++glass;
+      CHECK(m.transmit == Vec3d(0.85));
+      CHECK(m.ior == 1.55);
+      CHECK(m.reflect == Vec3d(0.05));
+    } else {
+      CHECK(m.ior == 1);
+    }
+    CHECK(m.reflect == m.specular);
+  }
+  CHECK(glass == 2);
+}
+
+// ----------------------------------------------------------------------------------------
+// Materials and vertex normals as published (issue 29, item 2)
+
+namespace {
+const Material& material_with_diffuse(const Scene& s, const Vec3d& kd) {
+  for (const Material& m : s.materials)
+    if (m.diffuse == kd) return m;
+  FAIL("no material with that diffuse colour");
+  throw std::logic_error("unreachable");
+}
+}  // namespace
+
+TEST_CASE("aff: f and fm keep their reflection weight, transmittance and index", "[aff][materials]") {
+  TempDir d;
+  // f: colour 1 0.5 0.25, Kd 0.8, Ks 0.3, Shine 20, T 0.5, index 1.5.
+  // fm: ambient 0.1, diffuse 0.5, specular 0.2 0.3 0.4, Shine 40, T 0, index 0 (BART writes 0).
+  // fm: diffuse 0.25, specular 0, T 0.9, index 1.33: transmits without reflecting.
+  const std::string text = std::string(kView) + "f 1 0.5 0.25 0.8 0.3 20 0.5 1.5\n" + kTri +
+                           "fm 0.1 0.1 0.1 0.5 0.5 0.5 0.2 0.3 0.4 40 0 0\n" + kTri +
+                           "fm 0 0 0 0.25 0.25 0.25 0 0 0 1 0.9 1.33\n" + kTri;
+  const Scene s = load_scene(d.write("m.aff", text));
+  REQUIRE(s.materials.size() == 3);
+  const Material& f = material_with_diffuse(s, Vec3d(0.8, 0.4, 0.2));
+  CHECK(f.specular == Vec3d(0.3));  // unchanged: Ks x white
+  CHECK(f.shininess == 20);
+  CHECK(f.reflect == Vec3d(0.3));  // BART: Ks is also the reflection weight
+  CHECK(f.transmit == Vec3d(0.5));
+  CHECK(f.ior == 1.5);
+  const Material& fm = material_with_diffuse(s, Vec3d(0.5));
+  CHECK(fm.specular == Vec3d(0.2, 0.3, 0.4));
+  CHECK(fm.reflect == Vec3d(0.2, 0.3, 0.4));
+  CHECK(fm.transmit == Vec3d(0));
+  CHECK(fm.ior == 1);  // T = 0: the written 0 is no index
+  CHECK_FALSE(fm.transmits());
+  const Material& glass = material_with_diffuse(s, Vec3d(0.25));
+  CHECK_FALSE(glass.reflects());
+  CHECK(glass.transmit == Vec3d(0.9));
+  CHECK(glass.ior == 1.33);
+  CHECK(has_note(s, "transmittance with index of refraction read; not yet traced"));
+}
+
+TEST_CASE("aff: pp normals follow a non-uniform static scale by the inverse transpose", "[aff][normals]") {
+  TempDir d;
+  // Written normal (1, 1, 0) under xs scale (2, 1, 1): the inverse transpose diag(1/2, 1, 1)
+  // maps it to (1/2, 1, 0), renormalised (1, 2, 0) / sqrt(5). The normal (0, 0, 3) is (0, 0, 1).
+  const std::string text = std::string(kView) + "fm 0 0 0 1 1 1 0 0 0 0 0 0\n" +
+                           "xs 2 1 1  0 0 1 0  0 0 0 {\n"
+                           "pp 4\n0 0 0 1 1 0\n1 0 0 1 1 0\n1 1 0 1 1 0\n0 1 0 0 0 3\n}\n";
+  const Scene s = load_scene(d.write("pp.aff", text));
+  REQUIRE(s.objects.size() == 1);
+  const Mesh& m = s.objects[0].mesh;
+  REQUIRE(m.triangles.size() == 2);
+  REQUIRE(m.normal_index.size() == 2);
+  CHECK(m.triangles_with_normals() == 2);
+  CHECK(m.vertices[m.triangles[0][1]] == Vec3d(2, 0, 0));  // the vertex is scaled
+  const double r5 = std::sqrt(5.0);
+  for (int k = 0; k < 3; ++k) {
+    const Vec3d n = m.normals[m.normal_index[0][k]];
+    CHECK(n.x == Approx(1 / r5).epsilon(1e-15));
+    CHECK(n.y == Approx(2 / r5).epsilon(1e-15));
+    CHECK(n.z == 0);
+  }
+  // Fan (0, 2, 3): corner 2 is the fourth vertex with (0, 0, 3).
+  CHECK(m.normals[m.normal_index[1][2]] == Vec3d(0, 0, 1));
+  CHECK(has_note(s, "vertex normals read"));
+  CHECK_FALSE(has_note(s, "vertex normals ignored"));
+}
+
+TEST_CASE("aff: mesh normals are per corner and flat triangles join the same group", "[aff][normals]") {
+  TempDir d;
+  // A flat triangle first, then a mesh whose vertex 0 has normal 0 in triangle 0 and normal
+  // 1 in triangle 1 (a crease), BART's order: three vertex indices, then three normal indices.
+  const std::string text = std::string(kView) + "fm 0 0 0 1 1 1 0 0 0 0 0 0\n" + kTri +
+                           "m vertices 4 0 0 0 1 0 0 1 1 0 0 1 0\n"
+                           "normals 2 0 0 1 0 2 0\n"
+                           "triangles 2\n0 1 2 0 0 0\n0 2 3 1 1 1\n";
+  const Scene s = load_scene(d.write("m.aff", text));
+  REQUIRE(s.objects.size() == 1);
+  const Mesh& m = s.objects[0].mesh;
+  REQUIRE(m.triangles.size() == 3);
+  REQUIRE(m.normal_index.size() == 3);
+  CHECK_FALSE(m.has_normals(0));  // the `p` triangle
+  CHECK(m.normal_index[0] == Tri{kNoNormal, kNoNormal, kNoNormal});
+  CHECK(m.triangles_with_normals() == 2);
+  CHECK(m.vertices.size() == 3 + 4);  // vertices are not split by their normals
+  for (int k = 0; k < 3; ++k) {
+    CHECK(m.normals[m.normal_index[1][k]] == Vec3d(0, 0, 1));
+    CHECK(m.normals[m.normal_index[2][k]] == Vec3d(0, 1, 0));  // (0, 2, 0) made unit
+  }
+  CHECK(m.triangles[1][0] == m.triangles[2][0]);  // one vertex, two normals
+}
+
+TEST_CASE("aff: a zero normal leaves its triangle flat and tpa normals stay ignored", "[aff][normals]") {
+  TempDir d;
+  const std::string text = std::string(kView) + "fm 0 0 0 1 1 1 0 0 0 0 0 0\n" +
+                           "pp 3\n0 0 0 0 0 1\n1 0 0 0 0 0\n0 1 0 0 0 1\n"
+                           "tpa 1\n0 0 0 0 0 0 1 1 0 0 0 0 1 0 1 0 0 0 1\n";
+  const Scene s = load_scene(d.write("z.aff", text));
+  std::size_t with = 0, all = 0;
+  for (const Object& o : s.objects) {
+    with += o.mesh.triangles_with_normals();
+    all += o.mesh.triangles.size();
+    if (o.deform) CHECK(o.mesh.normal_index.empty());
+  }
+  CHECK(all == 2);
+  CHECK(with == 0);
+  CHECK(has_note(s, "1 triangles with a zero-length vertex normal: shaded flat"));
+  CHECK(has_note(s, "vertex normals of animated triangles ('tpa') ignored"));
+}
+
+TEST_CASE("aff: split parts keep each triangle's own normals", "[aff][normals]") {
+  // 40 patches along x, each with the normal (x, 0, 1) at every corner, split into parts of at
+  // most 8: every part's triangles still point at their own normals.
+  TempDir d;
+  std::string text = std::string(kView) + "fm 0 0 0 1 1 1 0 0 0 0 0 0\n";
+  for (int i = 0; i < 40; ++i) {
+    const std::string x = std::to_string((i * 17) % 40), n = x + " 0 1";
+    text += "pp 3\n" + x + " 0 0 " + n + "\n" + x + ".5 0 0 " + n + "\n" + x + " 1 0 " + n + "\n";
+  }
+  AffOptions opt;
+  opt.max_object_triangles = 8;
+  const Scene s = load_aff(d.write("split.aff", text), opt);
+  REQUIRE(s.objects.size() == 8);
+  std::size_t checked = 0;
+  for (const Object& o : s.objects) {
+    const Mesh& m = o.mesh;
+    REQUIRE(m.normal_index.size() == m.triangles.size());
+    CHECK(m.normals.size() == 3 * m.triangles.size());  // only the normals it uses
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const double x = std::floor(m.vertices[m.triangles[t][k]].x);
+        const Vec3d want = Vec3d(x, 0, 1) / std::sqrt(x * x + 1);
+        const Vec3d got = m.normals[m.normal_index[t][k]];
+        CHECK(glm::length(got - want) < 1e-15);
+        ++checked;
+      }
+  }
+  CHECK(checked == 120);
 }

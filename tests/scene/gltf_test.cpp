@@ -504,3 +504,95 @@ TEST_CASE("gltf: an external buffer file is found beside the scene", "[gltf]") {
   d["buffers"][0]["uri"] = "http://example.com/data.bin";
   expect_error_text(d.dump(), ".gltf", "/buffers/0/uri", "only relative file paths and data URIs");
 }
+
+// ----------------------------------------------------------------------------------------
+// Materials and vertex normals as published (issue 29, item 2)
+
+namespace {
+std::string floats(const std::vector<float>& v) {
+  std::string out(v.size() * 4, '\0');
+  std::memcpy(&out[0], v.data(), out.size());
+  return out;
+}
+
+// One triangle drawn twice (with NORMAL, then without), and four materials: a perfect mirror,
+// a glass with transmission and ior, a transmitting one without ior, a rough metal with an
+// extension that is not mapped.
+json whitted_doc() {
+  const std::string bytes = floats({0, 0, 0, 1, 0, 0, 0, 1, 0}) + floats({0, 0, 2, 3, 4, 0, 0, 0, -1});
+  json doc = {
+      {"asset", {{"version", "2.0"}}},
+      {"buffers", {{{"byteLength", 72}, {"uri", "data:application/octet-stream;base64," + b64_encode(bytes)}}}},
+      {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
+                       {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 36}}}},
+      {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"type", "VEC3"}, {"count", 3},
+                      {"min", {0, 0, 0}}, {"max", {1, 1, 0}}},
+                     {{"bufferView", 1}, {"componentType", 5126}, {"type", "VEC3"}, {"count", 3}}}},
+      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"material", 0}},
+                                   {{"attributes", {{"POSITION", 0}}}, {"material", 0}}}}}}},
+      {"materials",
+       {{{"name", "mirror"},
+         {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.8, 0.7, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 0}}}},
+        {{"name", "glass"},
+         {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.75}}},
+                         {"KHR_materials_ior", {{"ior", 1.33}}}}}},
+        {{"name", "clear"}, {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}}}},
+        {{"name", "brushed"},
+         {"pbrMetallicRoughness", {{"metallicFactor", 1}, {"roughnessFactor", 0.5}}},
+         {"extensions", {{"KHR_materials_specular", json::object()}}}}}},
+      {"nodes", {{{"mesh", 0}, {"scale", {2, 1, 1}}}}},
+      {"scenes", {{{"nodes", {0}}}}},
+      {"scene", 0}};
+  return doc;
+}
+}  // namespace
+
+TEST_CASE("gltf: a mirror, transmission and ior map to reflect, transmit and ior", "[gltf][materials]") {
+  const Scene s = load_doc(whitted_doc());
+  REQUIRE(s.materials.size() == 4);
+  const Material &mirror = s.materials[0], &glass = s.materials[1], &clear = s.materials[2], &brushed = s.materials[3];
+  CHECK(mirror.reflect == Vec3d(0.9, 0.8, 0.7));  // metallic 1, roughness 0: base colour
+  CHECK_FALSE(mirror.transmits());
+  CHECK(mirror.ior == 1);
+  CHECK(mirror.diffuse == Vec3d(0.45, 0.4, 0.35));  // the Phong mapping as before: base (1 - 1/2)
+  CHECK_FALSE(glass.reflects());  // glTF's defaults metallic 1, roughness 1: no mirror
+  CHECK(glass.transmit == Vec3d(0.75));
+  CHECK(glass.ior == 1.33);
+  CHECK(clear.transmit == Vec3d(1));
+  CHECK(clear.ior == 1.5);  // glTF's dielectric index without KHR_materials_ior
+  CHECK_FALSE(brushed.reflects());  // roughness 0.5: not mapped
+  CHECK(has_note(s, "material extensions other than KHR_materials_transmission and KHR_materials_ior are ignored"));
+}
+
+TEST_CASE("gltf: NORMAL is read per corner, made unit, in the mesh's own frame", "[gltf][normals]") {
+  const Scene s = load_doc(whitted_doc());
+  REQUIRE(s.objects.size() == 1);
+  const Mesh& m = s.objects[0].mesh;
+  REQUIRE(m.triangles.size() == 2);
+  CHECK(m.vertices.size() == 3);  // both primitives share POSITION's vertices, as before
+  REQUIRE(m.normal_index.size() == 2);
+  CHECK(m.triangles_with_normals() == 1);  // the primitive without NORMAL is flat
+  CHECK_FALSE(m.has_normals(1));
+  // (0, 0, 2), (3, 4, 0), (0, 0, -1) made unit; the node's scale (2, 1, 1) is its motion and
+  // leaves the local normals alone.
+  CHECK(m.normals[m.normal_index[0][0]] == Vec3d(0, 0, 1));
+  CHECK(m.normals[m.normal_index[0][1]] == Vec3d(0.6, 0.8, 0));
+  CHECK(m.normals[m.normal_index[0][2]] == Vec3d(0, 0, -1));
+  CHECK(has_note(s, "vertex normals (NORMAL) read"));
+}
+
+TEST_CASE("gltf: bad transmission, ior and NORMAL name their JSON path", "[gltf][materials][errors]") {
+  auto expect = [](const std::function<void(json&)>& change, const std::string& place, const std::string& problem) {
+    json doc = whitted_doc();
+    change(doc);
+    expect_error_text(doc.dump(), ".gltf", place, problem);
+  };
+  expect([](json& d) { d["materials"][1]["extensions"]["KHR_materials_ior"]["ior"] = 0.5; },
+         "/materials/1/extensions/KHR_materials_ior/ior", "out of range");
+  expect([](json& d) { d["materials"][2]["extensions"]["KHR_materials_transmission"]["transmissionFactor"] = 2; },
+         "/materials/2/extensions/KHR_materials_transmission/transmissionFactor", "out of range");
+  expect([](json& d) { d["accessors"][1]["count"] = 2; }, "/meshes/0/primitives/0/attributes/NORMAL",
+         "a normal per vertex");
+  expect([](json& d) { d["accessors"][1]["type"] = "VEC4"; d["accessors"][1]["count"] = 2; }, "/accessors/1",
+         "expected type VEC3");
+}

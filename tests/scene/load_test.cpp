@@ -127,3 +127,52 @@ TEST_CASE("scene: OBJ errors name the file and the face", "[load][obj]") {
   TempScene empty("# nothing\n", ".obj");
   CHECK_THROWS_AS(load_obj(empty.path), InputError);
 }
+
+TEST_CASE("scene: materials read reflect, transmit and ior", "[load][materials]") {
+  const std::string text = std::string("{") + kHead +
+                           R"(, "materials": {
+      "mirror": {"diffuse": [0.1, 0.1, 0.1], "reflect": 0.8},
+      "glass": {"reflect": [0.1, 0.2, 0.3], "transmit": 0.9, "ior": 1.5},
+      "tinted": {"transmit": [1, 0.5, 0], "ior": 10},
+      "plain": {"specular": [0.5, 0.5, 0.5]}},
+    "objects": [{"material": "mirror", "mesh": {"vertices": [[0,0,0],[1,0,0],[0,1,0]], "triangles": [[0,1,2]]}}]})";
+  TempScene f(text);
+  const Scene s = load_scene(f.path);
+  REQUIRE(s.materials.size() == 4);
+  auto named = [&](const std::string& n) -> const Material& {
+    for (const Material& m : s.materials)
+      if (m.name == n) return m;
+    FAIL("no material " << n);
+    throw;
+  };
+  const Material &mirror = named("mirror"), &glass = named("glass"), &tinted = named("tinted"), &plain = named("plain");
+  CHECK(mirror.reflect == Vec3d(0.8));
+  CHECK(mirror.transmit == Vec3d(0));
+  CHECK(mirror.ior == 1);
+  CHECK(mirror.diffuse == Vec3d(0.1));  // the Phong terms as before
+  CHECK(glass.reflect == Vec3d(0.1, 0.2, 0.3));
+  CHECK(glass.transmit == Vec3d(0.9));
+  CHECK(glass.ior == 1.5);
+  CHECK(tinted.transmit == Vec3d(1, 0.5, 0));
+  CHECK(tinted.ior == 10);
+  CHECK_FALSE(tinted.reflects());
+  CHECK(tinted.transmits());
+  // A specular highlight is not a mirror: reflect stays 0 unless given.
+  CHECK_FALSE(plain.reflects());
+  CHECK_FALSE(plain.transmits());
+  CHECK(plain.ior == 1);
+}
+
+TEST_CASE("scene: bad reflect, transmit and ior name their JSON pointer", "[load][materials][errors]") {
+  auto with_material = [](const std::string& m) {
+    return std::string("{") + kHead + R"(, "materials": {"m": )" + m + R"(}, "objects": [)" + kTri + "]}";
+  };
+  expect_error(with_material(R"({"reflect": 1.5})"), "/materials/m/reflect", "out of range [0, 1]");
+  expect_error(with_material(R"({"reflect": -0.1})"), "/materials/m/reflect", "out of range [0, 1]");
+  expect_error(with_material(R"({"reflect": [0.1, 0.2]})"), "/materials/m/reflect", "expected a number or 3 numbers");
+  expect_error(with_material(R"({"transmit": [0.1, 2, 0.3]})"), "/materials/m/transmit/1", "out of range [0, 1]");
+  expect_error(with_material(R"({"transmit": "clear"})"), "/materials/m/transmit", "expected a number or 3 numbers");
+  expect_error(with_material(R"({"ior": 0.5})"), "/materials/m/ior", "out of range [1, 10]");
+  expect_error(with_material(R"({"ior": 11})"), "/materials/m/ior", "out of range [1, 10]");
+  expect_error(with_material(R"({"mirror": 1})"), "/materials/m/mirror", "unknown key");
+}
