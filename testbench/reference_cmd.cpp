@@ -9,6 +9,7 @@
 #include "ref/reference.h"
 #include "ref/stop.h"
 #include "scene/load.h"
+#include "stats.h"
 
 #include <chrono>
 #include <cstdio>
@@ -20,16 +21,6 @@
 namespace oprt {
 
 namespace {
-
-nlohmann::json work_json(const WorkCounts& w) {
-  return {{"sphere_tests", w.sphere_tests},
-          {"transforms", w.transforms},
-          {"triangle_tests", w.tri_tests()},
-          {"triangle_exit_stage", {w.tri_stage[0], w.tri_stage[1], w.tri_stage[2], w.tri_stage[3]}},
-          {"triangle_hits", w.tri_hits},
-          {"box_setups", w.box_setups},
-          {"box_tests", w.box_tests}};
-}
 
 template <typename T>
 int reference(const CommonOptions& o, const Scene& scene, const OutputPlan& outputs, const MemoryLimit& limit,

@@ -37,7 +37,7 @@ double FrameStats::idle_fraction() const {
   return makespan && !units.empty() ? static_cast<double>(idle) / (static_cast<double>(units.size()) * makespan) : 0;
 }
 
-namespace {
+// The work counters as stats.json and reference.json write them (one place for both).
 nlohmann::json work_json(const WorkCounts& w) {
   return {{"sphere_tests", w.sphere_tests},
           {"transforms", w.transforms},
@@ -48,6 +48,8 @@ nlohmann::json work_json(const WorkCounts& w) {
           {"box_tests", w.box_tests},
           {"node_tests", w.node_tests}};
 }
+
+namespace {
 // A pipelined unit: per unit in use its operations, busy (issuing: ops x II), starved (the IU
 // holds rays but none has an operation for it) and idle (the IU holds no ray), which add up
 // to the makespan; then the rays' waits (for a free slot, for object memory, for the bus)

@@ -87,6 +87,9 @@ struct FrameStats {
 // stopped (SIGINT, SIGTERM) or fails after its first frame still gets both files, listing the
 // frames it completed (the destructor finishes what finish() was not called for); one killed
 // outright leaves only hidden temporaries.
+// The work counters as stats.json and reference.json write them.
+nlohmann::json work_json(const WorkCounts& w);
+
 class StatsWriter {
  public:
   StatsWriter(std::string dir, nlohmann::json header);
