@@ -511,6 +511,64 @@ class TestSlurm(ExploreTestCase):
         self.assertTrue(os.path.exists(os.path.join(self.out, "summary.md")))
 
 
+class TestBudgetAndFidelities(ExploreTestCase):
+    PARAMS = {"ius": {"choice": [2, 4, 8, 16]}, "iu.model": {"choice": ["serial", "pipelined"]},
+              "ray_fifo_depth": {"choice": [16, 256]}, "balance": {"choice": ["paper", "sa_n"]}, "tech": TECH45}
+
+    def trial_states(self, out=None):
+        states, _ = self.study_counts(out)
+        return states
+
+    def test_a_budget_ends_the_search_with_no_trial_left_running(self):
+        space = self.space(self.PARAMS, resolution="16x16")
+        r = self.explore(space, "--budget", "6s", "--jobs", "2", "--no-confirm", "--group", "2")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(self.trial_states().get("RUNNING", 0), 0)
+        with open(os.path.join(self.out, "result.json")) as f:
+            res = json.load(f)
+        self.assertEqual(res["budget_s"], 6)
+        self.assertIn("search", res["phases_s"])
+        self.assertEqual(res["fidelities"]["target"]["evaluations"], res["evaluations"])  # 16x16: no screening
+        with open(os.path.join(self.out, "summary.md")) as f:
+            self.assertIn("## How the time went", f.read())
+
+    def test_screening_promotes_to_the_target_fidelity_and_measures_its_error(self):
+        space = self.space(self.PARAMS, resolution="64x64")
+        r = self.explore(space, "--evaluations", "36", "--jobs", "2", "--no-confirm")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = self.rows()
+        self.assertEqual(len(rows), 36)
+        sizes = {}
+        for row in rows:  # each evaluation's own stats.json: 16x16 screened, 64x64 promoted
+            with open(os.path.join(self.out, "trials", f"{int(row['trial']):05d}", "paper_room", "stats.json")) as f:
+                sizes[row["trial"]] = tuple(json.load(f)["resolution"])
+        self.assertEqual(set(sizes.values()), {(16, 16), (64, 64)})
+        for row in self.rows("pareto.csv"):  # the front: the target fidelity only
+            self.assertEqual(sizes[row["trial"]], (64, 64))
+        fid = {row["objective"]: row for row in self.rows("fidelity.csv")}
+        self.assertEqual(set(fid), set(OBJECTIVES))
+        self.assertEqual(float(fid["area_mm2"]["spearman"]), 1.0)  # area does not depend on the resolution
+        self.assertEqual(float(fid["area_mm2"]["max_rel_error_pct"]), 0.0)
+        self.assertEqual(float(fid["frame_time_s"]["scale"]), 16.0)  # (64 * 64) / (16 * 16) pixels
+
+    def test_reuse_seeds_the_study_with_an_earlier_search(self):
+        space = self.space(self.PARAMS, resolution="8x8")
+        first = os.path.join(self.dir, "first")
+        r = self.explore(space, "--evaluations", "6", "--no-confirm", out=first)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        before = len(self.runs())
+        r = self.explore(space, "--evaluations", "9", "--no-confirm", "--reuse", first)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn(f"--reuse {first}: 6 evaluated configurations of this space added to the study", r.stderr)
+        mine, theirs = self.rows(), {json.dumps({k: v for k, v in row.items() if k not in ("trial", "wall_s")})
+                                     for row in self.rows(out=first)}
+        self.assertEqual(len(mine), 9)
+        seeded = [row for row in mine if json.dumps({k: v for k, v in row.items() if k not in ("trial", "wall_s")}) in theirs]
+        self.assertEqual(len(seeded), 6, "the earlier evaluations, figures and all")
+        new_runs = [d for d in self.runs()[before:] if d.startswith(self.out + os.sep + "trials")]
+        self.assertEqual(len(new_runs), 3, "only the 3 new configurations rendered")
+
+
 class TestTarget(ExploreTestCase):
     def test_searches_take_the_grids_figures_and_report_their_share_of_its_hypervolume(self):
         space = self.space({"ius": {"choice": [1, 2, 4, 8]}, "iu.model": {"choice": ["serial", "pipelined"]},
