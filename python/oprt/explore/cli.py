@@ -238,6 +238,8 @@ def open_search(run, a, script, binary, out):
         queued = run.enqueue_grid()
         if queued:
             print(f"explore: {queued} grid points queued", file=sys.stderr)
+    if not shared and not a.worker and not a.slurm:
+        run.go_in_memory()
     if a.slurm:
         os.makedirs(os.path.join(out, "slurm"), exist_ok=True)
         text, final = slurm_script(script, a, out, a.storage, binary, a.jobs, a.sbatch)

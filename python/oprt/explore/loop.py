@@ -79,6 +79,7 @@ class Loop:
         run = self.run
         trial.set_user_attr("duplicate_of", same)
         run.study.tell(trial, state=run.optuna.trial.TrialState.PRUNED)
+        run.persist(trial.number)
         self.duplicates_in_a_row += 1
         taken = set(self.evaluated()) | {config_key(c) for _, c, _, _ in self.inflight.values()}
         fresh = run.random_unevaluated(taken, trial.number)
@@ -92,6 +93,7 @@ class Loop:
 
     def start(self, trial, config, fid):
         run = self.run
+        run.persist(trial.number)  # in the study's file as RUNNING before oprt starts
         resolution = run.screen if fid == SCREEN else None
         key = reuse_key(run.space, config) + "@" + (resolution or "")
         if run.reused and key in run.reused:
@@ -193,6 +195,10 @@ class Loop:
                     time.sleep(0.02)
         finally:
             self.stop_inflight()
+            try:
+                run.flush()  # the queued trials too
+            except Exception as e:
+                print(f"explore: could not write the queued trials to the study ({e})", file=sys.stderr)
         if run.clock.past() and self.note is None and len(run.ledger) < run.target:
             self.note = f"the time budget ({run.clock.budget:g} s) is spent"
         return self.note
@@ -204,6 +210,7 @@ class Loop:
             try:
                 trial.set_user_attr("interrupted", True)
                 run.study.tell(trial, state=run.optuna.trial.TrialState.FAIL)
+                run.persist(n)
                 if fid == TARGET and run.screen:
                     run.promoted.discard(config_key(config))
                     params = {p.name: config[p.name] for p in run.varied}

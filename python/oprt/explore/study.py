@@ -27,6 +27,7 @@ class Run:
         self.reused = {}
         self.ledger = {}  # trial number -> the FrozenTrial of each evaluation
         self.clock = Clock(None)
+        self.mirror = None  # a local study in memory, written through to its file (mirror.py)
         self.screen = None  # the screening resolution, or None (every evaluation at the target fidelity)
         self.rung = 10  # screened evaluations between promotions
         self.promoted = set()  # config keys queued at the target fidelity by this process
@@ -77,12 +78,29 @@ class Run:
         task = os.environ.get("SLURM_ARRAY_TASK_ID")
         if self.args.worker and task:  # each task its own random stream, all in one study
             seed = seed + 1000003 * (int(task) + 1)
+        self.seed_used = seed
         self.study = self.optuna.create_study(storage=self.storage, study_name="explore", load_if_exists=True,
                                               directions=["minimize"] * len(self.space.objectives),
                                               sampler=self.sampler(seed))
         if len(self.study.directions) != len(self.space.objectives):
             raise UsageError(f"--out {self.args.out}: its study has {len(self.study.directions)} objectives, "
                              f"the space {len(self.space.objectives)}")
+
+    def go_in_memory(self):
+        """A local study from here on: in memory, written through to its file (mirror.py)."""
+        from .mirror import Mirror
+        memory = self.optuna.create_study(directions=["minimize"] * len(self.space.objectives),
+                                          sampler=self.sampler(self.seed_used))
+        self.mirror = Mirror(self.optuna, self.storage, memory)
+        self.study, self.storage = memory, memory._storage
+
+    def persist(self, number):
+        if self.mirror is not None:
+            self.mirror.write(number)
+
+    def flush(self):
+        if self.mirror is not None:
+            self.mirror.flush()
 
     def trials(self):
         return self.study.get_trials(deepcopy=False)
@@ -200,8 +218,11 @@ class Run:
                       "resolution": getattr(ev, "resolution", None) or self.space.resolution}
         trial.set_user_attr("evaluation", evaluation)
         if fidelity == TARGET and self.screen:
-            return self.study.tell(trial, state=self.optuna.trial.TrialState.PRUNED)
-        return self.study.tell(trial, values)
+            told = self.study.tell(trial, state=self.optuna.trial.TrialState.PRUNED)
+        else:
+            told = self.study.tell(trial, values)
+        self.persist(told.number)
+        return told
 
     def add_to_front(self, t):
         """Keeps self.front: the feasible target-fidelity evaluations no other dominates."""
@@ -249,7 +270,7 @@ class Run:
         tag = f" {fidelity}" if self.screen else ""
         print(f"explore: [{n}{of}] trial {trial.number}{tag} {r['outcome']:<10} "
               f"{conf}: {what} ({ev.wall:.1f} s) | {best_text} | {fmt_time(elapsed)}", flush=True)
-        if n < 500 or time.time() - self.last_write > 2:  # a long search's file: rewritten every 2 s
+        if time.time() - self.last_write > (0.5 if n < 500 else 2):  # rewritten (and synced) twice a second at most
             self.write_evaluations()
 
     # ---- figures
