@@ -270,7 +270,7 @@ class Run:
         tag = f" {fidelity}" if self.screen else ""
         print(f"explore: [{n}{of}] trial {trial.number}{tag} {r['outcome']:<10} "
               f"{conf}: {what} ({ev.wall:.1f} s) | {best_text} | {fmt_time(elapsed)}", flush=True)
-        if time.time() - self.last_write > (0.5 if n < 500 else 2):  # rewritten (and synced) twice a second at most
+        if n < 500 or time.time() - self.last_write > 2:  # a long search's file: rewritten every 2 s
             self.write_evaluations()
 
     # ---- figures
