@@ -3,7 +3,9 @@
 //   oprt reference SCENE ...  the untimed functional reference
 //   oprt info SCENE ...       scene, spheres and their assignment
 //   oprt compare A.exr B.exr  how far frame A is from reference frame B (JSON)
+//   oprt batch SCENE --archs FILE.jsonl --out DIR   many analytic renders of one scene
 // Any bad input ends with one message "oprt: FILE: PLACE: PROBLEM" and exit status 2.
+#include "batch.h"
 #include "commands.h"
 #include "memory_estimate.h"
 #include "render.h"
@@ -77,10 +79,11 @@ struct CommandLine {
   oprt::CommonOptions opt;
   oprt::RenderOptions info_arch;  // with any of --arch, --ius, --balance, --locality: the assignment too
   oprt::RenderOptions ro;
+  oprt::BatchOptions batch_opts;
   std::string compare_image, compare_reference;
   Numbers numbers;
   int threads = 0;  // 0: every core
-  CLI::App *info = nullptr, *ref = nullptr, *compare = nullptr, *render = nullptr;
+  CLI::App *info = nullptr, *ref = nullptr, *compare = nullptr, *render = nullptr, *batch = nullptr;
   const std::string max_memory_help =
       "refuse a run whose estimated memory is more than BYTES (64M, 2G, 1.5T; default: the memory available)";
 
@@ -90,6 +93,7 @@ struct CommandLine {
     add_reference();
     add_compare();
     add_render();
+    add_batch();
   }
 
   void add_threads(CLI::App* sub) {
@@ -123,7 +127,37 @@ struct CommandLine {
   void add_compare();
   void add_render();
   void add_render_outputs();
+  void add_batch();
 };
+
+void CommandLine::add_batch() {
+  batch = app.add_subcommand("batch", "render one scene for many architectures in one process (analytic level)");
+  batch->add_option("SCENE", batch_opts.scene, "scene file")->required();
+  batch->add_option("--archs", batch_opts.archs,
+                    "JSON lines, each {\"args\": [...]}: the options of one oprt render (without SCENE and --out)")
+      ->required();
+  batch->add_option("--out", batch_opts.out, "output folder: line i renders into DIR/i (stats.json, status.json)")
+      ->required();
+  add_threads(batch);
+}
+
+// One line of a batch: `oprt render SCENE ARGS`, parsed by render's own command line.
+oprt::RenderOptions parse_render_line(const std::vector<std::string>& args, const std::string& scene) {
+  CommandLine c;
+  std::vector<std::string> words = {"oprt", "render", scene};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& w : words) argv.push_back(w.data());
+  try {
+    c.app.parse(static_cast<int>(argv.size()), argv.data());
+  } catch (const CLI::CallForHelp&) {
+    throw oprt::LineRefused("--help: not an option of a batch line");
+  } catch (const CLI::ParseError& e) {
+    throw oprt::LineRefused(e.what());
+  }
+  c.numbers.run();
+  return c.ro;
+}
 
 void CommandLine::add_info() {
   info = app.add_subcommand("info", "print the scene, its bounding spheres and their SA x N");
@@ -244,6 +278,10 @@ int main(int argc, char** argv) {
     if (*c.ref) return run_reference(c.opt);
     if (*c.render) return run_render(c.ro);
     if (*c.compare) return run_compare(c.compare_image, c.compare_reference);
+    if (*c.batch)
+      return run_batch(c.batch_opts, [&c](const std::vector<std::string>& args) {
+        return parse_render_line(args, c.batch_opts.scene);
+      });
   } catch (const InputError& e) {
     std::cerr << "oprt: " << e.what() << "\n";
     return 2;

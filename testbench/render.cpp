@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <sstream>
 #include <unistd.h>
 
@@ -120,6 +121,56 @@ std::exception_ptr from_process(std::exception_ptr failure, const RenderJob& job
   }
 }
 
+}  // namespace
+
+struct RenderCache {
+  std::map<std::string, std::shared_ptr<const Scene>> scenes;  // by file and load options
+  template <typename T>
+  struct Built {
+    std::vector<SphereDef> spheres;
+    SceneGeometry<T> geometry;
+  };
+  std::map<std::string, std::shared_ptr<const Built<float>>> float_geometry;  // by scene and geometry options
+  std::map<std::string, std::shared_ptr<const Built<double>>> double_geometry;
+  std::string scene_key;  // the current render's scene
+  auto& geometry(float*) { return float_geometry; }
+  auto& geometry(double*) { return double_geometry; }
+};
+
+std::shared_ptr<RenderCache> make_render_cache() { return std::make_shared<RenderCache>(); }
+
+namespace {
+
+// The scene, loaded or from the cache.
+std::shared_ptr<const Scene> shared_scene(const std::string& file, const LoadOptions& load, RenderCache* cache) {
+  if (!cache) return std::make_shared<const Scene>(load_scene(file, load));
+  std::ostringstream key;
+  key << file << '|' << load.aff.max_object_triangles << '|' << load.aff.sphere_segments << '|' << load.aff.sphere_rings
+      << '|' << load.aff.cone_segments;
+  cache->scene_key = key.str();
+  auto& slot = cache->scenes[cache->scene_key];
+  if (!slot) slot = std::make_shared<const Scene>(load_scene(file, load));
+  return slot;
+}
+
+// The spheres and their geometry, built or from the cache.
+template <typename T>
+std::shared_ptr<const RenderCache::Built<T>> shared_geometry(const RenderOptions& o, const Scene& scene, const Arch& a,
+                                                             RenderCache* cache) {
+  const auto build = [&] {
+    auto spheres = make_spheres(scene, a.subdivide, split_rule_named(a.split_rule), object_split_named(a.split, o.scene));
+    SceneGeometry<T> geometry = build_geometry<T>(scene, spheres, a.kernel, accel_named(a.accel));
+    return std::make_shared<const RenderCache::Built<T>>(RenderCache::Built<T>{std::move(spheres), std::move(geometry)});
+  };
+  if (!cache) return build();
+  std::ostringstream key;
+  key << cache->scene_key << '|' << a.subdivide << '|' << a.split_rule << '|' << a.split << '|'
+      << static_cast<int>(a.kernel) << '|' << a.accel;
+  auto& slot = cache->geometry(static_cast<T*>(nullptr))[key.str()];
+  if (!slot) slot = build();
+  return slot;
+}
+
 // What run_render checked before loading, for the checks that need the scene.
 struct Prepared {
   OutputPlan outputs;
@@ -128,9 +179,9 @@ struct Prepared {
 };
 
 template <typename T>
-int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared& p) {
-  const auto spheres = make_spheres(scene, job.arch.subdivide, split_rule_named(job.arch.split_rule),
-                                    object_split_named(job.arch.split, o.scene));
+int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared& p, RenderCache* cache) {
+  const auto built = shared_geometry<T>(o, scene, job.arch, cache);
+  const std::vector<SphereDef>& spheres = built->spheres;
   const std::size_t units = units_for(spheres.size(), static_cast<std::size_t>(job.arch.ius));
   // The whole run, now that the scene, its image and its units are known, before the engine
   // and the frames allocate anything.
@@ -153,7 +204,7 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared&
   if (units < static_cast<std::size_t>(job.arch.ius))
     std::printf("oprt: %d intersection units requested, the scene has %zu spheres: instantiating %zu units\n",
                 job.arch.ius, spheres.size(), units);
-  SceneGeometry<T> geometry = build_geometry<T>(scene, spheres, job.arch.kernel, accel_named(job.arch.accel));
+  SceneGeometry<T> geometry = built->geometry;  // a copy: a deforming scene changes it frame by frame
   const SaNCosts costs = sa_n_costs(job.arch, geometry);
   job.assignment = initial_assignment(job.arch.balance, job.arch.locality, scene, spheres, units, costs);
   // Every sphere's SA x N and sa_n cost estimate, whatever the policy: scripts/figures
@@ -226,7 +277,9 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared&
 
 }  // namespace
 
-int run_render(const RenderOptions& o) {
+int run_render(const RenderOptions& o) { return run_render(o, nullptr); }
+
+int run_render(const RenderOptions& o, RenderCache* cache) {
   ::setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 0);
   RenderJob job;
   job.arch = resolve_arch(o);
@@ -279,7 +332,8 @@ int run_render(const RenderOptions& o) {
     limit_scene_memory(p.limit, p.shape, before);
   }
 
-  const Scene scene = load_scene(o.scene, load_options_for(o.load, o.max_object_triangles, split));
+  const std::shared_ptr<const Scene> loaded = shared_scene(o.scene, load_options_for(o.load, o.max_object_triangles, split), cache);
+  const Scene& scene = *loaded;
   job.scene = &scene;
   job.width = scene.width;
   job.height = scene.height;
@@ -292,7 +346,7 @@ int run_render(const RenderOptions& o) {
   job.trace = trace_selection(o, job.frames);
   if (o.trace_buffer) job.trace_budget = *o.trace_buffer;
   job.progress = o.progress && ::isatty(2);
-  return job.arch.precision == "double" ? render<double>(o, scene, job, p) : render<float>(o, scene, job, p);
+  return job.arch.precision == "double" ? render<double>(o, scene, job, p, cache) : render<float>(o, scene, job, p, cache);
 }
 
 }  // namespace oprt

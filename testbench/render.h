@@ -8,6 +8,7 @@
 #include "scene/load.h"
 
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -29,6 +30,14 @@ struct RenderOptions {
 };
 
 int run_render(const RenderOptions& o);
+
+// oprt batch (batch_cmd.cpp): the loaded scenes and the built spheres and BVHs that the renders
+// of one process share. A render given a cache takes its scene and geometry from it when an
+// earlier one loaded and built them with the same options (the geometry copied: a deforming
+// scene changes its copy), and leaves what it loads and builds there.
+struct RenderCache;
+std::shared_ptr<RenderCache> make_render_cache();
+int run_render(const RenderOptions& o, RenderCache* cache);
 
 // Defaults < file < flags. Throws InputError on a bad value.
 Arch resolve_arch(const RenderOptions& o);

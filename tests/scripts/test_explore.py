@@ -27,12 +27,16 @@ TECH45 = os.path.join(REPO, "testbench", "tech", "45nm.json")
 OPRT = os.environ.get("OPRT_BINARY")
 OBJECTIVES = ["frame_time_s", "energy_j", "area_mm2"]
 
-# Logs "<--out folder>" of every render to $RUNS_LOG, sleeps $SLOW seconds (not for the one-pixel
-# probes), then becomes the real oprt (exec: it keeps the parent-death signal explore sets).
+# Logs "<--out folder>" of every render (and every line of a batch) to $RUNS_LOG, sleeps $SLOW
+# seconds (not for the one-pixel probes; once per batch), then becomes the real oprt (exec: it keeps the parent-death signal explore sets).
 WRAPPER = r'''#!/bin/bash
 if [ "$1" = render ]; then
   prev=""; for a in "$@"; do [ "$prev" = "--out" ] && echo "$a" >> "$RUNS_LOG"; prev="$a"; done
   case " $* " in *" --resolution 1x1 "*) ;; *) sleep "${SLOW:-0}";; esac
+elif [ "$1" = batch ]; then  # each line's "out", as a render's --out
+  prev=""; for a in "$@"; do [ "$prev" = "--archs" ] && archs="$a"; prev="$a"; done
+  grep -o '"out": "[^"]*"' "$archs" | sed 's/^"out": "//; s/"$//' >> "$RUNS_LOG"
+  sleep "${SLOW:-0}"
 fi
 exec "$REAL_OPRT" "$@"
 '''
@@ -410,7 +414,8 @@ class TestInterruptions(ExploreTestCase):
     def test_kill_9_mid_run_then_rerun_gives_exactly_n_evaluations(self):
         space = self.space(self.PARAMS)
         env = dict(self.env, SLOW="0.5")
-        p = subprocess.Popen(self.explore_cmd(space, "--evaluations", "10", "--jobs", "2", "--no-confirm"), env=env,
+        # Groups of 2 configurations per oprt process (oprt batch): up to 4 evaluations in flight.
+        p = subprocess.Popen(self.explore_cmd(space, "--evaluations", "10", "--jobs", "2", "--group", "2", "--no-confirm"), env=env,
                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         self.wait_for_evaluations(p, 3)
         p.send_signal(signal.SIGKILL)
@@ -425,7 +430,7 @@ class TestInterruptions(ExploreTestCase):
         alive = self.children_left(deadline_s=30)
         self.assertEqual(alive, [], "oprt children still running 30 s after explore was killed with -9")
 
-        r = self.explore(space, "--evaluations", "10", "--jobs", "2", "--no-confirm")
+        r = self.explore(space, "--evaluations", "10", "--jobs", "2", "--group", "2", "--no-confirm")
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertIn("was interrupted: its configuration is queued again", r.stderr)
         rows = self.rows()
@@ -439,7 +444,7 @@ class TestInterruptions(ExploreTestCase):
         runs = [d for d in self.runs() if d.startswith(self.out + os.sep + "trials")]
         finished = {os.path.join(self.out, "trials", f"{int(t):05d}", "paper_room") for t in after}
         self.assertEqual(sorted(d for d in runs if d in finished), sorted(finished), "each evaluation ran once")
-        self.assertLessEqual(len(runs) - len(finished), 2, "only the evaluations in flight were lost")
+        self.assertLessEqual(len(runs) - len(finished), 4, "only the evaluations in flight were lost")
         _, done = self.study_counts()
         self.assertEqual(done, 10)
 
@@ -457,7 +462,9 @@ class TestInterruptions(ExploreTestCase):
         space = self.space(self.PARAMS)
         env = dict(self.env, SLOW="0.5")
         for sig, status in ((signal.SIGTERM, 143), (signal.SIGINT, 130)):
-            p = subprocess.Popen(self.explore_cmd(space, "--evaluations", "8", "--jobs", "2", "--no-confirm"), env=env,
+            # One configuration per oprt process: the evaluations in flight are the two running.
+            p = subprocess.Popen(self.explore_cmd(space, "--evaluations", "8", "--jobs", "2", "--group", "1",
+                                                  "--no-confirm"), env=env,
                                  stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
             self.wait_for_evaluations(p, 2 if sig == signal.SIGTERM else 4)
             p.send_signal(sig)
@@ -467,7 +474,7 @@ class TestInterruptions(ExploreTestCase):
             states, done = self.study_counts()
             self.assertEqual(states.get("RUNNING", 0), 0, "the trials in flight are closed, not left running")
             self.assertEqual(len(self.rows()), done)
-        r = self.explore(space, "--evaluations", "8", "--jobs", "2", "--no-confirm")
+        r = self.explore(space, "--evaluations", "8", "--jobs", "2", "--group", "1", "--no-confirm")
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertEqual(len(self.rows()), 8)
         self.assertEqual(len({tuple(r[k] for k in self.PARAMS) for r in self.rows()}), 8)
@@ -502,6 +509,65 @@ class TestSlurm(ExploreTestCase):
         self.assertEqual(len(rows), 6)
         self.assertEqual(len({tuple(r[k] for k in TestSearch.PARAMS) for r in rows}), 6)
         self.assertTrue(os.path.exists(os.path.join(self.out, "summary.md")))
+
+
+class TestBudgetAndFidelities(ExploreTestCase):
+    PARAMS = {"ius": {"choice": [2, 4, 8, 16]}, "iu.model": {"choice": ["serial", "pipelined"]},
+              "ray_fifo_depth": {"choice": [16, 256]}, "balance": {"choice": ["paper", "sa_n"]}, "tech": TECH45}
+
+    def trial_states(self, out=None):
+        states, _ = self.study_counts(out)
+        return states
+
+    def test_a_budget_ends_the_search_with_no_trial_left_running(self):
+        space = self.space(self.PARAMS, resolution="16x16")
+        r = self.explore(space, "--budget", "10s", "--jobs", "2", "--no-confirm", "--group", "2")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(self.trial_states().get("RUNNING", 0), 0)
+        with open(os.path.join(self.out, "result.json")) as f:
+            res = json.load(f)
+        self.assertEqual(res["budget_s"], 10)
+        self.assertIn("search", res["phases_s"])
+        self.assertEqual(len(self.rows()), res["evaluations"])  # however many a loaded machine allowed
+        self.assertNotIn("screen", res["fidelities"])  # 16x16: no screening
+        with open(os.path.join(self.out, "summary.md")) as f:
+            self.assertIn("## How the time went", f.read())
+
+    def test_screening_promotes_to_the_target_fidelity_and_measures_its_error(self):
+        space = self.space(self.PARAMS, resolution="64x64")
+        r = self.explore(space, "--evaluations", "36", "--jobs", "2", "--no-confirm")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = self.rows()
+        self.assertEqual(len(rows), 36)
+        sizes = {}
+        for row in rows:  # each evaluation's own stats.json: 16x16 screened, 64x64 promoted
+            with open(os.path.join(self.out, "trials", f"{int(row['trial']):05d}", "paper_room", "stats.json")) as f:
+                sizes[row["trial"]] = tuple(json.load(f)["resolution"])
+        self.assertEqual(set(sizes.values()), {(16, 16), (64, 64)})
+        for row in self.rows("pareto.csv"):  # the front: the target fidelity only
+            self.assertEqual(sizes[row["trial"]], (64, 64))
+        fid = {row["objective"]: row for row in self.rows("fidelity.csv")}
+        self.assertEqual(set(fid), set(OBJECTIVES))
+        self.assertAlmostEqual(float(fid["area_mm2"]["spearman"]), 1.0, places=12)  # area does not depend on the resolution
+        self.assertEqual(float(fid["area_mm2"]["max_rel_error_pct"]), 0.0)
+        self.assertEqual(float(fid["frame_time_s"]["scale"]), 16.0)  # (64 * 64) / (16 * 16) pixels
+
+    def test_reuse_seeds_the_study_with_an_earlier_search(self):
+        space = self.space(self.PARAMS, resolution="8x8")
+        first = os.path.join(self.dir, "first")
+        r = self.explore(space, "--evaluations", "6", "--no-confirm", out=first)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        before = len(self.runs())
+        r = self.explore(space, "--evaluations", "9", "--no-confirm", "--reuse", first)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn(f"--reuse {first}: 6 evaluated configurations of this space added to the study", r.stderr)
+        mine, theirs = self.rows(), {json.dumps({k: v for k, v in row.items() if k not in ("trial", "wall_s")})
+                                     for row in self.rows(out=first)}
+        self.assertEqual(len(mine), 9)
+        seeded = [row for row in mine if json.dumps({k: v for k, v in row.items() if k not in ("trial", "wall_s")}) in theirs]
+        self.assertEqual(len(seeded), 6, "the earlier evaluations, figures and all")
+        new_runs = [d for d in self.runs()[before:] if d.startswith(self.out + os.sep + "trials")]
+        self.assertEqual(len(new_runs), 3, "only the 3 new configurations rendered")
 
 
 class TestTarget(ExploreTestCase):

@@ -6,6 +6,7 @@ import os
 import shlex
 import signal
 import sys
+import time
 
 from .. import paths, slurm
 from ..files import atomic_json, atomic_write
@@ -17,6 +18,8 @@ from .probe import check_constraint_keys, check_out_dir, probe_space
 from .space import load_space
 from .storage import import_optuna, load_reused
 from .study import Run, pareto_trials
+from .reuse import seed_study
+from .fidelity import UNBOUNDED, Clock, parse_duration, screen_resolution
 from .common import RUN_FORMAT, SpaceError, UsageError, grid_points
 
 
@@ -45,11 +48,23 @@ def parse_args(argv, doc):
                                  epilog="Space format, outputs and examples: docs/explore.md")
     ap.add_argument("space", metavar="SPACE.json", help="the design space (oprt-space/1)")
     ap.add_argument("--out", required=True, help="output folder: the study, its evaluations and reports")
-    ap.add_argument("--evaluations", type=int, help="evaluations the study should hold (default 100; --grid: every point)")
+    ap.add_argument("--evaluations", type=int, help="evaluations the study should hold (default 100, or as many as "
+                                                    "--budget allows; --grid: every point)")
+    ap.add_argument("--budget", metavar="TIME", help="the time the command may take (90s, 15m, 1h): the search "
+                    "evaluates until 85 %% of it is spent, then confirms the front")
+    ap.add_argument("--screen", metavar="WxH|none", help="screen configurations at this resolution first (default: "
+                    "the space's divided by 4 per side), the promising ones then at the space's")
+    ap.add_argument("--promote", type=float, default=0.25, metavar="FRACTION",
+                    help="the share of the screened configurations priced at the space's resolution (default 0.25, "
+                         "and every non-dominated one)")
     ap.add_argument("--seed", type=int, default=0, help="the sampler's seed (default 0): the same seed, the same search")
-    ap.add_argument("--sampler", choices=("nsga2", "tpe"), default="nsga2", help="Optuna's NSGA-II (default) or TPE")
+    ap.add_argument("--sampler", choices=("nsga2", "tpe", "portfolio"), default="nsga2",
+                    help="Optuna's NSGA-II (default), TPE, or portfolio: a Latin-hypercube first generation, then NSGA-II")
     ap.add_argument("--jobs", "-j", type=int, default=len(os.sched_getaffinity(0)),
                     help="evaluations at once (default: the cores); with --slurm, the array's tasks")
+    ap.add_argument("--group", type=int, default=8, metavar="N",
+                    help="configurations per oprt process at the analytic level (oprt batch: the scene loaded, "
+                         "its BVHs built once; default 8; 1: one oprt render each)")
     ap.add_argument("--grid", action="store_true", help="evaluate every point (every parameter a choice or fixed)")
     ap.add_argument("--slurm", action="store_true",
                     help="write DIR/explore.sbatch, a Slurm array job whose tasks share the study; run nothing")
@@ -63,9 +78,10 @@ def parse_args(argv, doc):
                     help="an evaluation running longer fails (default 3600; 0: never)")
     ap.add_argument("--no-confirm", action="store_true",
                     help="skip the Pareto points' runs at --level at (a ground-truth grid, a measurement)")
-    ap.add_argument("--reuse", metavar="DIR",
-                    help="take the figures of configurations another explore output of the same space holds "
-                         "instead of running oprt (the model is deterministic): to measure a search against a grid")
+    ap.add_argument("--reuse", metavar="DIR", action="append", default=[],
+                    help="start from the evaluations of an earlier explore output or a sweep output (its aggregate.csv) "
+                         "of the same scenes, frames and resolution: added to the study, not rendered again (repeatable)")
+    ap.add_argument("--price-from", metavar="DIR", help=argparse.SUPPRESS)  # figures only (scripts/explore_target)
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)  # a Slurm task: evaluate only
     ap.add_argument("--stale-after", type=float, default=600, help=argparse.SUPPRESS)
     ap.add_argument("--max-duplicates", type=int, default=1000, help=argparse.SUPPRESS)
@@ -86,6 +102,8 @@ def check_options(a):
     """The command line and the space file (nothing run yet): (space, grid points or None)."""
     if a.jobs < 1:
         raise UsageError("--jobs must be at least 1")
+    if a.group < 1:
+        raise UsageError("--group must be at least 1")
     if a.evaluations is not None and a.evaluations < 1:
         raise UsageError("--evaluations must be at least 1")
     check_out_dir(a.out)
@@ -101,7 +119,11 @@ def check_options(a):
         raise SpaceError(a.space, "", str(e).split(": ", 1)[-1]) from None
     if a.grid and a.evaluations is not None and a.evaluations != len(grid):
         raise UsageError(f"--grid evaluates every one of the space's {len(grid)} points: leave out --evaluations")
-    a.evaluations = len(grid) if a.grid else (a.evaluations or 100)
+    a.budget_s = parse_duration(a.budget) if a.budget else None
+    if not 0 < a.promote <= 1:
+        raise UsageError(f"--promote {a.promote:g}: expected a share above 0 and at most 1")
+    a.screen_res = None if a.grid else screen_resolution(a.screen, space.resolution)
+    a.evaluations = len(grid) if a.grid else (a.evaluations or (UNBOUNDED if a.budget_s else 100))
     return space, grid
 
 
@@ -121,7 +143,7 @@ def check_manifest(a, space, out):
         a.storage = os.path.abspath(a.storage[len("journal:"):] if a.storage.startswith("journal:") else a.storage)
     if manifest:
         for key, mine in (("space_hash", space.grid_hash if a.grid else space.hash), ("sampler", "grid" if a.grid else a.sampler),
-                          ("seed", a.seed), ("storage", a.storage)):
+                          ("seed", a.seed), ("storage", a.storage), ("screen", a.screen_res)):
             if manifest.get(key) != mine:
                 what = {"space_hash": f"the space {manifest.get('space')} as it was then"}.get(
                     key, f"{key} {manifest.get(key)}")
@@ -167,9 +189,13 @@ def explore(argv, doc, script):
         manifest = {"format": RUN_FORMAT, "space": space.file, "space_hash": space.grid_hash if a.grid else space.hash,
                     "eval_hash": space.eval_hash,
                     "sampler": "grid" if a.grid else a.sampler, "seed": a.seed, "storage": a.storage,
+                    "screen": a.screen_res,
                     "oprt_flags_folded": None}
         atomic_json(os.path.join(out, "explore.json"), manifest)
     run = Run(a, space, oprt, optuna)
+    run.clock = Clock(a.budget_s)
+    run.screen = a.screen_res
+    run.rung = max(2 * a.jobs, 10)
     run.grid = grid
     run.target = a.evaluations
     stopping = []
@@ -197,17 +223,23 @@ def open_search(run, a, script, binary, out):
     array job and returns 0 (nothing else to do), else None."""
     shared = a.storage is not None
     run.open_study(create=True)
-    if a.reuse:
-        run.reused = load_reused(run.optuna, a.reuse, run.space)
+    for folder in a.reuse + ([a.price_from] if a.price_from else []):
+        if os.path.isfile(os.path.join(folder, "explore.json")):
+            run.reused.update(load_reused(run.optuna, folder, run.space))
     if not a.worker:
         run.recover(shared=shared)
     if run.space.start and not a.grid and not a.worker and not run.trials():
         for point in run.space.start:
             run.study.enqueue_trial(point, user_attrs={"start": True})
+    for folder in a.reuse if not a.worker else []:
+        n = seed_study(run, folder)
+        print(f"explore: --reuse {folder}: {n} evaluated configurations of this space added to the study", file=sys.stderr)
     if a.grid and not a.worker:
         queued = run.enqueue_grid()
         if queued:
             print(f"explore: {queued} grid points queued", file=sys.stderr)
+    if not shared and not a.worker and not a.slurm:
+        run.go_in_memory()
     if a.slurm:
         os.makedirs(os.path.join(out, "slurm"), exist_ok=True)
         text, final = slurm_script(script, a, out, a.storage, binary, a.jobs, a.sbatch)
@@ -226,8 +258,10 @@ def search(run, a, script, binary, out):
     if status is not None:
         return status
     references = None
+    t = time.time()
     if not a.worker:
         references = evaluate_references(run)
+        run.clock.add("references", time.time() - t)
         if references is None:
             return 128 + run.stop_signal
         run.reference_point = reference_point(run.space, references)
@@ -235,9 +269,14 @@ def search(run, a, script, binary, out):
         run.reference_point = {o: 1.0 for o in run.space.objectives}
     done = len(run.done())
     if done < run.target:
-        print(f"explore: {done} of {run.target} evaluations done; evaluating the rest, {a.jobs} at a time "
-              f"(oprt --level analytic, {run.threads} thread{'s' if run.threads > 1 else ''} each)", file=sys.stderr)
+        what = f"{done} of {run.target} evaluations done" if run.target < UNBOUNDED else f"{done} evaluations done"
+        limit = f", for {a.budget}" if a.budget else ""
+        screen = f", screened at {run.screen} first" if run.screen else ""
+        print(f"explore: {what}; evaluating{limit}, {a.jobs} at a time (oprt --level analytic{screen}, "
+              f"{run.threads} thread{'s' if run.threads > 1 else ''} each)", file=sys.stderr)
+    t = time.time()
     note = run.run(shared=a.storage is not None)
+    run.clock.add("search", time.time() - t)
     if run.stop_signal:
         run.write_evaluations()
         print(f"explore: interrupted with {len(run.done())} of {run.target} evaluations done", file=sys.stderr)
@@ -250,18 +289,20 @@ def search(run, a, script, binary, out):
 def report(run, a, references, note):
     """Confirms the front at `at`, writes the outputs; returns the exit status."""
     done = run.done()
-    front = pareto_trials(run, [t for t in done if run.evaluation(t)["outcome"] == "complete"])
+    front = pareto_trials(run, [t for t in run.final(done) if run.evaluation(t)["outcome"] == "complete"])
     confirmed = None
     if not a.no_confirm and front:
         print(f"explore: confirming the {len(front)} Pareto configurations at --level at", file=sys.stderr)
+        t = time.time()
         confirmed = confirm(run, front)
+        run.clock.add("confirmation", time.time() - t)
         if confirmed is None:
             return 128 + run.stop_signal
     front = write_outputs(run, references, confirmed, note)
     print(f"explore: {len(done)} evaluations, {len(front)} Pareto-optimal; report in {os.path.join(a.out, 'summary.md')}",
           file=sys.stderr)
     status = 0
-    if len(done) < run.target and not (note and "every one is evaluated" in note):
+    if len(done) < run.target and not (note and ("every one is evaluated" in note or "budget" in note)):
         print(f"explore: only {len(done)} of {run.target} evaluations: {note or 'run the same command again'}",
               file=sys.stderr)
         status = 1

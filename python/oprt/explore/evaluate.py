@@ -74,8 +74,16 @@ class Oprt:
     def command(self, scene_file, arch_file, config, out, level, threads, frames=None, resolution=None, fold=False):
         cmd = [self.binary, "render", scene_file, "--arch", arch_file, "--level", level, "--out", out,
                "--no-progress", "--threads", str(threads)]
+        return cmd + self.tail_args(config, frames, resolution, fold)
+
+    def batch_args(self, arch_file, config, resolution=None):
+        """A line of `oprt batch`: the options of one analytic render, without scene and outputs."""
+        return ["--arch", arch_file, "--level", "analytic"] + self.tail_args(config, None, resolution, False)
+
+    def tail_args(self, config, frames, resolution, fold):
         frames = frames if frames is not None else self.space.frames
         resolution = resolution if resolution is not None else self.space.resolution
+        cmd = []
         if frames:
             cmd += ["--frames", frames]
         if resolution:
@@ -154,8 +162,9 @@ def judge(space, figures, stats_list):
 class Evaluation:
     """One configuration priced by oprt: its scenes one after the other in the trial's folder."""
 
-    def __init__(self, run, number, config, level="analytic", folder=None, arch_doc=None, fold=False):
+    def __init__(self, run, number, config, level="analytic", folder=None, arch_doc=None, fold=False, resolution=None):
         self.run, self.number, self.config, self.level = run, number, config, level
+        self.resolution = resolution  # None: the space's
         self.dir = folder or os.path.join(run.out, "trials", f"{number:05d}")
         os.makedirs(self.dir, exist_ok=True)
         self.arch = os.path.join(self.dir, "arch.json") if arch_doc is None else arch_doc
@@ -175,7 +184,7 @@ class Evaluation:
         shutil.rmtree(out, ignore_errors=True)
         os.makedirs(out)
         self.cmd = self.run.oprt.command(self.run.space.scene_files[i], self.arch, self.config, out, self.level,
-                                         self.run.threads, fold=self.fold)
+                                         self.run.threads, resolution=self.resolution, fold=self.fold)
         self.log = open(os.path.join(out, "log.txt"), "w+")
         self.t0 = time.time()
         self.proc = subprocess.Popen(self.cmd, stdout=self.log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
@@ -199,6 +208,11 @@ class Evaluation:
         self.log.seek(0)
         text = self.log.read()
         self.log.close()
+        return self.conclude(rc, text)
+
+    def conclude(self, rc, text):
+        """A scene's run ended with status rc and log text: the next scene, or the result.
+        True once the configuration is judged."""
         out = self.scene_dir(self.scene_index)
         if rc == 0:
             try:

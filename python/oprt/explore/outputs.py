@@ -9,21 +9,24 @@ from ..plots import atomic_savefig
 from ..values import show
 from .common import RUN_FORMAT, OBJECTIVES, UNITS, AXIS_LABELS
 from .study import best_for, pareto_trials
+from .fidelity import SCREEN, TARGET, UNBOUNDED, fidelity_error
 
 
 # ------------------------------------------------------------------------------------ outputs
 def hypervolume_curve(run, done):
-    """(evaluations, trial, hypervolume) after each evaluation, in trial order."""
-    feasible, curve = [], []
+    """(evaluations, trial, hypervolume of the target-fidelity front) after each evaluation, in
+    trial order (screened ones included: they cost time too)."""
+    curve = []
+    saved, run.front = run.front, []
     for i, t in enumerate(sorted(done, key=lambda t: t.number), 1):
-        e = run.evaluation(t)
-        if e["outcome"] == "complete":
-            feasible.append(t)
-            front = pareto_trials(run, feasible)
-            hv = run.hypervolume([run.evaluation(x)["figures"] for x in front])
+        before = list(run.front)
+        run.add_to_front(t)
+        if run.front != before or not curve:
+            hv = run.hypervolume([run.evaluation(x)["figures"] for x in run.front]) if run.front else 0.0
         else:
-            hv = curve[-1][2] if curve else 0.0
+            hv = curve[-1][2]
         curve.append((i, t.number, hv))
+    run.front = saved
     return curve
 
 
@@ -108,7 +111,7 @@ def fmt(o, v):
 def write_outputs(run, references, confirmed, note, plots=True):
     done = run.done()
     ev = run.evaluation
-    feasible = [t for t in done if ev(t)["outcome"] == "complete"]
+    feasible = [t for t in run.final(done) if ev(t)["outcome"] == "complete"]
     front = pareto_trials(run, feasible)
     run.write_evaluations()
     atomic_write(os.path.join(run.out, "pareto.csv"), csv_text(run.columns(), [run.row(t) for t in front]))
@@ -128,6 +131,12 @@ def write_outputs(run, references, confirmed, note, plots=True):
               "reference_point": run.reference_point, "note": note,
               "confirmation_max_error_pct": max((max(r.get(f"{o}_error_pct", 0) for o in ("frame_time_s", "energy_j"))
                                                  for r in confirmed or [] if r.get("state") == "confirmed"), default=None)}
+    result.update(time_and_fidelity(run, done))
+    if result["fidelity_error"]:
+        atomic_write(os.path.join(run.out, "fidelity.csv"), csv_text(list(result["fidelity_error"][0]),
+                                                                     [{k: repr(v) if isinstance(v, float) else v
+                                                                       for k, v in r.items()}
+                                                                      for r in result["fidelity_error"]]))
     atomic_json(os.path.join(run.out, "result.json"), result)
     if plots:
         plot_outputs(run, done, front, references, curve)
@@ -139,7 +148,7 @@ def summary(run, done, front, references, confirmed, curve, note):
     s, ev = run.space, run.evaluation
     varied = [p for p in s.params if p.varied]
     fixed = [p for p in s.params if not p.varied]
-    states = {k: [t for t in done if ev(t)["outcome"] == k] for k in ("complete", "infeasible", "failed")}
+    states = {k: [t for t in run.final(done) if ev(t)["outcome"] == k] for k in ("complete", "infeasible", "failed")}
     refused = [t for t in states["infeasible"] if not ev(t).get("figures")]
     broke = [t for t in states["infeasible"] if ev(t).get("figures")]
     L = [f"# Design-space search: {os.path.basename(s.file)}", ""]
@@ -154,7 +163,9 @@ def summary(run, done, front, references, confirmed, curve, note):
     cons = "; ".join(f"{k} {'<=' if kind == 'max' else '>='} {b:g}" for k, b, kind, _ in s.constraints) or "none"
     L += [f"Objectives (all minimised): {', '.join(s.objectives)}. Constraints: {cons}.", ""]
     L += ["## What the search found", ""]
-    L += [f"{len(done)} evaluations (of {run.target} requested): {len(states['complete'])} feasible, "
+    asked = f" (of {run.target} requested)" if run.target < UNBOUNDED else ""
+    at = f" at the target fidelity ({s.resolution})" if run.screen else ""
+    L += [f"{len(done)} evaluations{asked}; {len(run.final(done))}{at}: {len(states['complete'])} feasible, "
           f"{len(broke)} breaking a constraint, {len(refused)} refused by oprt, {len(states['failed'])} failed."]
     if note:
         L += [f"The search stopped early: {note}."]
@@ -228,7 +239,43 @@ def summary(run, done, front, references, confirmed, curve, note):
         if len(confirmed) > 20:
             L += [f"    ... ({len(confirmed) - 20} more in confirm.csv)"]
         L += [""]
+    L += time_lines(run, done)
     L += ["Files: evaluations.csv (every evaluation), pareto.csv (the front), pareto/ (architecture files), "
           "confirm.csv, hypervolume.csv, front.png, hypervolume.png, trials/ (each evaluation's stats.json and log), "
           "study.db (the Optuna study).", ""]
     return "\n".join(L)
+
+
+def time_and_fidelity(run, done):
+    """result.json's account of the time (per phase; evaluations and their seconds per fidelity)
+    and of the screening's error against the target fidelity."""
+    per = {}
+    for t in done:
+        fid = t.user_attrs.get("fidelity", TARGET)
+        n, sec = per.get(fid, (0, 0.0))
+        per[fid] = (n + 1, sec + run.evaluation(t)["wall_s"])
+    return {"budget_s": run.clock.budget, "elapsed_s": round(run.clock.elapsed(), 3),
+            "phases_s": {k: round(v, 3) for k, v in run.clock.phases.items()},
+            "fidelities": {f: {"resolution": run.screen if f == SCREEN else run.space.resolution, "evaluations": n,
+                               "evaluation_s": round(sec, 3)} for f, (n, sec) in per.items()},
+            "fidelity_error": fidelity_error(run, run.screen) if run.screen else []}
+
+
+def time_lines(run, done):
+    r = time_and_fidelity(run, done)
+    budget = f"a budget of {r['budget_s']:g} s; " if r["budget_s"] else ""
+    phases = ", ".join(f"{k} {v:.1f} s" for k, v in r["phases_s"].items())
+    L = ["## How the time went", "", f"{budget}{r['elapsed_s']:.1f} s in all: {phases}."]
+    for f, x in r["fidelities"].items():
+        res = x["resolution"] or "the scene's resolution"
+        L += [f"- {f} ({res}): {x['evaluations']} evaluations, "
+              f"{x['evaluation_s']:.1f} s of oprt runs ({x['evaluations'] / max(x['evaluation_s'], 1e-9) * run.jobs:.2f} "
+              f"per second over {run.jobs} at once)."]
+    if r["fidelity_error"]:
+        L += ["", f"Screening at {run.screen} against the target fidelity {run.space.resolution}, on the "
+                  f"{r['fidelity_error'][0]['pairs']} configurations priced at both (fidelity.csv; frame time and "
+                  "energy scaled by the pixel ratio):", "",
+              "| objective | Spearman | Kendall | mean relative error | largest |", "|---|---:|---:|---:|---:|"]
+        L += [f"| {x['objective']} | {x['spearman']:.3f} | {x['kendall']:.3f} | {x['mean_rel_error_pct']:.1f} % | "
+              f"{x['max_rel_error_pct']:.1f} % |" for x in r["fidelity_error"]]
+    return L + [""]

@@ -48,6 +48,15 @@ class Param:
             return f"{self.kind} [{self.lo}, {self.hi}]" + (" (log)" if self.log else "")
         return f"= {show(self.value)}"
 
+    def distribution(self, optuna):
+        """Optuna's distribution of a searched parameter (as suggest asks for it)."""
+        d = optuna.distributions
+        if self.kind == "int":
+            return d.IntDistribution(self.lo, self.hi, log=self.log)
+        if self.kind == "float":
+            return d.FloatDistribution(self.lo, self.hi, log=self.log)
+        return d.CategoricalDistribution(self.values)
+
     def suggest(self, trial):
         if self.kind == "int":
             return trial.suggest_int(self.name, self.lo, self.hi, log=self.log)

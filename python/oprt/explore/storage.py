@@ -110,7 +110,10 @@ def load_reused(optuna, folder, space):
     for t in study.get_trials(deepcopy=False):
         e = t.user_attrs.get("evaluation") if t.state.name == "COMPLETE" else None
         if e:
-            table[reuse_key(other, e["config"])] = {"outcome": e["outcome"], "reason": e["reason"], "figures": e["figures"],
+            # Keyed by configuration and resolution: "@" is the space's (the target fidelity).
+            screened = t.user_attrs.get("fidelity") == "screen"
+            table[reuse_key(other, e["config"]) + "@" + (e.get("resolution", "") if screened else "")] = {"outcome": e["outcome"], "reason": e["reason"], "figures": e["figures"],
                                              "violations": e["violations"],
-                                             "constraint_values": e["constraint_values"], "wall_s": e["wall_s"]}
+                                             "constraint_values": e["constraint_values"], "wall_s": e["wall_s"],
+                                             "config": e["config"]}
     return table

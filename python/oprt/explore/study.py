@@ -8,8 +8,8 @@ import time
 from ..files import atomic_write, csv_text
 from ..pareto import hypervolume
 from ..values import fmt_time, show
-from .common import OBJECTIVES, UNITS, FAILED_PENALTY, HEARTBEAT_S, UsageError, finite_size, full_config, config_key, reuse_key
-from .evaluate import Evaluation, Reused
+from .common import OBJECTIVES, UNITS, FAILED_PENALTY, UsageError, full_config, config_key
+from .fidelity import TARGET, UNBOUNDED, Clock, dominates
 from .storage import open_storage
 
 
@@ -26,6 +26,14 @@ class Run:
         self.varied = [p for p in space.params if p.varied]
         self.reused = {}
         self.ledger = {}  # trial number -> the FrozenTrial of each evaluation
+        self.clock = Clock(None)
+        self.mirror = None  # a local study in memory, written through to its file (mirror.py)
+        self.screen = None  # the screening resolution, or None (every evaluation at the target fidelity)
+        self.rung = 10  # screened evaluations between promotions
+        self.promoted = set()  # config keys queued at the target fidelity by this process
+        self.front_size = 0
+        self.last_write = 0.0
+        self.front = []  # the feasible target-fidelity evaluations no other dominates, kept as they come
 
     # ---- the study
     def sampler(self, seed):
@@ -37,6 +45,9 @@ class Run:
         def constraints(trial):
             return trial.user_attrs.get("evaluation", {}).get("violations_all", [0.0] * n_constraints)
 
+        if self.args.sampler == "portfolio":
+            from .samplers import portfolio_sampler
+            return portfolio_sampler(optuna, seed, self.population(), constraints)
         if self.args.sampler == "tpe":
             return optuna.samplers.TPESampler(seed=seed, constraints_func=constraints, multivariate=True,
                                               n_startup_trials=self.startup_trials())
@@ -67,6 +78,7 @@ class Run:
         task = os.environ.get("SLURM_ARRAY_TASK_ID")
         if self.args.worker and task:  # each task its own random stream, all in one study
             seed = seed + 1000003 * (int(task) + 1)
+        self.seed_used = seed
         self.study = self.optuna.create_study(storage=self.storage, study_name="explore", load_if_exists=True,
                                               directions=["minimize"] * len(self.space.objectives),
                                               sampler=self.sampler(seed))
@@ -74,15 +86,35 @@ class Run:
             raise UsageError(f"--out {self.args.out}: its study has {len(self.study.directions)} objectives, "
                              f"the space {len(self.space.objectives)}")
 
+    def go_in_memory(self):
+        """A local study from here on: in memory, written through to its file (mirror.py)."""
+        from .mirror import Mirror
+        memory = self.optuna.create_study(directions=["minimize"] * len(self.space.objectives),
+                                          sampler=self.sampler(self.seed_used))
+        self.mirror = Mirror(self.optuna, self.storage, memory)
+        self.study, self.storage = memory, memory._storage
+
+    def persist(self, number):
+        if self.mirror is not None:
+            self.mirror.write(number)
+
+    def flush(self):
+        if self.mirror is not None:
+            self.mirror.flush()
+
     def trials(self):
         return self.study.get_trials(deepcopy=False)
 
     @staticmethod
     def evaluation(t):
         """The evaluation a trial holds, or None (duplicates, surplus, interrupted, running)."""
-        if t.state.name != "COMPLETE":
-            return None
-        return t.user_attrs.get("evaluation")
+        if t.state.name == "COMPLETE" or (t.state.name == "PRUNED" and t.user_attrs.get("fidelity") == TARGET):
+            return t.user_attrs.get("evaluation")
+        return None
+
+    def final(self, trials):
+        """The evaluations at the target fidelity (all of them when the search does not screen)."""
+        return [t for t in trials if t.user_attrs.get("fidelity", TARGET) == TARGET]
 
     def done(self):
         """Every evaluation the study holds, in trial order (the study read again)."""
@@ -165,125 +197,15 @@ class Run:
         return trials
 
     def run(self, shared):
-        """Evaluates until the study holds the requested evaluations (or a signal). Returns a
-        note why it stopped early, or None. Locally the ledger of evaluations is kept here (the
-        study is read once); with a shared study, it is read again before each new trial."""
-        optuna = self.optuna
-        target = self.target
-        inflight = {}  # trial number -> (trial, config, evaluation)
-        duplicates_in_a_row = 0
-        last_beat = time.time()
-        note = None
-        t0 = time.time()
-        size = finite_size(self.space)
-        self.refresh()
-        known = {config_key(self.evaluation(t)["config"]): n for n, t in self.ledger.items()}
-        running_others = []
-        try:
-            while True:
-                if self.stop_signal:
-                    break
-                finished = [n for n, (_, _, ev) in inflight.items() if ev.poll()]
-                for n in finished:
-                    trial, config, ev = inflight.pop(n)
-                    self.ledger[n] = self.record(trial, config, ev)
-                    known[config_key(config)] = n
-                    self.progress(self.ledger[n], config, ev, t0)
-                if shared and time.time() - last_beat > HEARTBEAT_S:
-                    for trial, _, _ in inflight.values():
-                        trial.set_user_attr("heartbeat", time.time())
-                    last_beat = time.time()
-                    self.recover(shared=True)
-                launched = False
-                while len(inflight) < self.jobs and not self.stop_signal and note is None:
-                    if shared:
-                        trials = self.refresh()
-                        for n, t in self.ledger.items():
-                            known.setdefault(config_key(self.evaluation(t)["config"]), n)
-                        running_others = [t for t in trials if t.state.name == "RUNNING" and t.number not in inflight]
-                        if self.args.grid and not any(t.state.name == "WAITING" for t in trials):
-                            break
-                    if len(self.ledger) + len(inflight) + len(running_others) >= target:
-                        break
-                    if size is not None and len(known) >= size and not self.args.grid:
-                        note = f"the space has only {size} configurations, and every one is evaluated"
-                        break
-                    trial, config = self.ask()
-                    key = config_key(config)
-                    if self.args.grid and "fixed_params" not in self.study._storage.get_trial(trial._trial_id).system_attrs:
-                        trial.set_user_attr("surplus", True)  # the queue ran dry (another worker took the last)
-                        self.study.tell(trial, state=optuna.trial.TrialState.PRUNED)
-                        break
-                    same = known.get(key)
-                    if same is None:
-                        same = next((n for n, (_, c, _) in inflight.items() if config_key(c) == key), None)
-                        if same is None:
-                            same = next((t.number for t in running_others
-                                         if config_key(t.user_attrs.get("config") or {}) == key), None)
-                    if same is not None:
-                        # Already evaluated (or being evaluated): not evaluated again, not counted.
-                        # A sampler that has converged proposes the same configurations again and
-                        # again (TPE learns nothing from a pruned trial): the next trial is then a
-                        # random configuration not evaluated yet.
-                        trial.set_user_attr("duplicate_of", same)
-                        self.study.tell(trial, state=optuna.trial.TrialState.PRUNED)
-                        duplicates_in_a_row += 1
-                        taken = set(known) | {config_key(c) for _, c, _ in inflight.values()}
-                        fresh = self.random_unevaluated(taken, trial.number)
-                        if fresh is not None:
-                            self.study.enqueue_trial(fresh, user_attrs={"random_after_duplicate": trial.number})
-                        elif size is not None:
-                            note = f"the space has only {size} configurations, and every one is evaluated"
-                        if duplicates_in_a_row >= self.args.max_duplicates:
-                            note = (f"the sampler proposed {duplicates_in_a_row} configurations in a row that were "
-                                    "already evaluated: the search has converged")
-                        continue
-                    duplicates_in_a_row = 0
-                    trial.set_user_attr("config", config)
-                    if shared:
-                        trial.set_user_attr("heartbeat", time.time())
-                        # Surplus: several workers asked at once for the last evaluations.
-                        ahead = [t for t in self.trials() if (t.state.name == "RUNNING" or self.evaluation(t))
-                                 and t.number < trial.number]
-                        if len(ahead) >= target:
-                            trial.set_user_attr("surplus", True)
-                            self.study.tell(trial, state=optuna.trial.TrialState.PRUNED)
-                            break
-                    if self.reused and reuse_key(self.space, config) in self.reused:
-                        ev = Reused(self.reused[reuse_key(self.space, config)])
-                    else:
-                        ev = Evaluation(self, trial.number, config)
-                    inflight[trial.number] = (trial, config, ev)
-                    launched = True
-                if not inflight:  # every slot was free and nothing could start
-                    if len(self.ledger) >= target or note is not None:
-                        break
-                    if not shared:
-                        if self.args.grid:
-                            break  # a grid point lost its queued trial: the next run queues it again
-                        continue
-                    trials = self.refresh()
-                    if not any(t.state.name == "RUNNING" for t in trials):
-                        if self.args.grid and not any(t.state.name == "WAITING" for t in trials):
-                            break
-                        continue
-                    time.sleep(1)  # other workers are evaluating the last ones
-                    self.recover(shared=True)
-                    continue
-                if not finished and not launched:
-                    time.sleep(0.02)
-        finally:
-            for n, (trial, config, ev) in inflight.items():  # interrupted: lost, queued again
-                ev.stop()
-                try:
-                    trial.set_user_attr("interrupted", True)
-                    self.study.tell(trial, state=optuna.trial.TrialState.FAIL)
-                    self.retry(n, config)
-                except Exception as e:  # the store itself failed: the next run recovers the trial
-                    print(f"explore: trial {n}: could not record the interruption ({e})", file=sys.stderr)
-        return note
+        """Evaluates until the study holds the requested evaluations, the time budget is spent
+        or a signal comes (loop.py). Returns a note why it stopped early, or None."""
+        from .loop import Loop
+        return Loop(self, shared).run_loop()
 
-    def record(self, trial, config, ev):
+    def record(self, trial, config, ev, fidelity=TARGET):
+        """Tells the study. With screening, the sampler learns from the screened figures; an
+        evaluation at the target fidelity is kept in its trial, pruned for the sampler (its
+        figures are on another scale)."""
         r = ev.result
         k = len(self.space.objectives)
         ok = r["outcome"] in ("complete", "infeasible") and "figures" in r
@@ -292,16 +214,39 @@ class Run:
         evaluation = {"outcome": r["outcome"], "reason": r.get("reason", ""), "config": config,
                       "figures": r.get("figures"), "constraint_values": r.get("constraint_values", {}),
                       "violations": violations, "wall_s": round(ev.wall, 3),
-                      "violations_all": violations + [0.0 if ok else FAILED_PENALTY]}
+                      "violations_all": violations + [0.0 if ok else FAILED_PENALTY],
+                      "resolution": getattr(ev, "resolution", None) or self.space.resolution}
         trial.set_user_attr("evaluation", evaluation)
-        return self.study.tell(trial, values)
+        if fidelity == TARGET and self.screen:
+            told = self.study.tell(trial, state=self.optuna.trial.TrialState.PRUNED)
+        else:
+            told = self.study.tell(trial, values)
+        self.persist(told.number)
+        return told
 
-    def progress(self, trial, config, ev, t0):
+    def add_to_front(self, t):
+        """Keeps self.front: the feasible target-fidelity evaluations no other dominates."""
+        e = self.evaluation(t)
+        if e["outcome"] != "complete" or t.user_attrs.get("fidelity", TARGET) != TARGET:
+            return
+        objs = self.space.objectives
+        p = [e["figures"][o] for o in objs]
+        pts = [[self.evaluation(q)["figures"][o] for o in objs] for q in self.front]
+        if any(dominates(q, p) or q == p for q in pts):
+            return
+        self.front = [q for q, qp in zip(self.front, pts) if not dominates(p, qp)] + [t]
+
+    def progress(self, trial, config, ev, t0, fidelity=TARGET):
         r = ev.result
-        done = list(self.ledger.values())
-        n = len(done)
-        names = [p.name for p in self.varied]
-        conf = " ".join(f"{k}={show(config[k])}" for k in names)
+        if not self.front or self.front_size != len(self.ledger) - 1:
+            self.front = []
+            for t in self.ledger.values():
+                self.add_to_front(t)
+        else:
+            self.add_to_front(trial)
+        self.front_size = len(self.ledger)
+        n = len(self.ledger)
+        conf = " ".join(f"{p.name}={show(config[p.name])}" for p in self.varied)
         if "figures" in r:
             f = r["figures"]
             what = ", ".join(f"{f[o] * UNITS[o][0]:.4g} {UNITS[o][1]}" for o in OBJECTIVES)
@@ -310,22 +255,23 @@ class Run:
         else:
             what = r.get("reason", "")
             what = what if len(what) <= 110 else what[:107] + "..."
-        feasible = [t for t in done if self.evaluation(t)["outcome"] == "complete"]
-        if feasible:
+        if self.front:
             best = []
             for o in self.space.objectives:
-                t = best_for(self, feasible, o)
+                t = best_for(self, self.front, o)
                 best.append(f"{self.evaluation(t)['figures'][o] * UNITS[o][0]:.4g} {UNITS[o][1]} (trial {t.number})")
-            front = pareto_trials(self, feasible)
-            best_text = f"best {', '.join(best)}; front {len(front)}"
+            best_text = f"best {', '.join(best)}; front {len(self.front)}"
             if not self.args.worker:  # a worker has no reference point
-                best_text += f", hypervolume {self.hypervolume([self.evaluation(t)['figures'] for t in front]):.4f}"
+                best_text += f", hypervolume {self.hypervolume([self.evaluation(t)['figures'] for t in self.front]):.4f}"
         else:
             best_text = "nothing feasible yet"
         elapsed = time.time() - t0
-        print(f"explore: [{n:{len(str(self.target))}}/{self.target}] trial {trial.number} {r['outcome']:<10} "
+        of = "" if self.target >= UNBOUNDED else f"/{self.target}"
+        tag = f" {fidelity}" if self.screen else ""
+        print(f"explore: [{n}{of}] trial {trial.number}{tag} {r['outcome']:<10} "
               f"{conf}: {what} ({ev.wall:.1f} s) | {best_text} | {fmt_time(elapsed)}", flush=True)
-        self.write_evaluations()
+        if n < 500 or time.time() - self.last_write > 2:  # a long search's file: rewritten every 2 s
+            self.write_evaluations()
 
     # ---- figures
     def hypervolume(self, figures_list):
@@ -350,6 +296,7 @@ class Run:
         return row
 
     def write_evaluations(self):
+        self.last_write = time.time()
         done = [self.ledger[n] for n in sorted(self.ledger)]
         atomic_write(os.path.join(self.out, "evaluations.csv"), csv_text(self.columns(), [self.row(t) for t in done]))
 
@@ -361,7 +308,10 @@ def best_for(run, trials, objective):
 
 
 def pareto_trials(run, feasible):
-    """The feasible evaluations no other one dominates (Optuna's own test), by first objective."""
-    from optuna.study._multi_objective import _get_pareto_front_trials_by_trials
-    front = _get_pareto_front_trials_by_trials(list(feasible), run.study.directions)
+    """The feasible evaluations no other one dominates (as good in every objective, better in
+    one), by first objective; of two with the same figures, the first."""
+    objs = run.space.objectives
+    pts = [[run.evaluation(t)["figures"][o] for o in objs] for t in feasible]
+    front = [t for i, t in enumerate(feasible)
+             if not any(dominates(q, pts[i]) or (q == pts[i] and j < i) for j, q in enumerate(pts))]
     return sorted(front, key=lambda t: [run.evaluation(t)["figures"][o] for o in run.space.objectives])
