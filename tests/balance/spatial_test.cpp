@@ -204,3 +204,19 @@ TEST_CASE("sphere world boxes follow the objects' matrices", "[balance][spatial]
     CHECK_FALSE(at0[i].empty());
   }
 }
+
+TEST_CASE("spatial: when two axes cut to the same area the first axis (x before y) is cut", "[balance][spatial]") {
+  // Four unit cubes at the corners of a square in the xy plane (centres (0,0), (2,2), (0,2),
+  // (2,0)), equal weights, two regions. Cut along x: {0, 2} and {1, 3}, two boxes 1 x 3 x 1 of
+  // area 2 (3 + 3 + 1) = 14 each, 28 in all; along y: {0, 3} and {1, 2}, also 28; along z
+  // (every centre at z = 0: the ids' order) {0, 1} and {2, 3}, two diagonal boxes 3 x 3 x 1 of
+  // area 30 each, 60. x and y tie; the first axis tried, x, is kept.
+  const auto cube = [](double x, double y) { return Box<double>{{x - 0.5, y - 0.5, -0.5}, {x + 0.5, y + 0.5, 0.5}}; };
+  const std::vector<Box<double>> boxes = {cube(0, 0), cube(2, 2), cube(0, 2), cube(2, 0)};
+  const std::vector<double> equal(4, 1);
+  CHECK(spatial_regions(boxes, equal, 2) == std::vector<Ids>{{0, 2}, {1, 3}});
+  CHECK(assign_spatial(boxes, equal, 2, 1).unit == std::vector<Ids>{{0, 2}, {1, 3}});
+  // Turned a quarter (x <-> y), the same square cuts along the new x: the rule is the axis order.
+  const std::vector<Box<double>> turned = {cube(0, 0), cube(2, 2), cube(2, 0), cube(0, 2)};
+  CHECK(spatial_regions(turned, equal, 2) == std::vector<Ids>{{0, 3}, {1, 2}});
+}
