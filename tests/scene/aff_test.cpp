@@ -212,7 +212,7 @@ TEST_CASE("aff: a keyframe track moves its object by the hand-computed values", 
   }
 }
 
-TEST_CASE("aff: a non-uniform scale with a rotation scales first, then rotates (BART's T R S)", "[aff]") {
+TEST_CASE("aff: a non-uniform scale with a rotation scales first and then rotates (BART's T R S)", "[aff]") {
   // Scale (2, 1, 1), then 90 degrees about z, then +(10, 0, 0): (1,0,0) -> (2,0,0) -> (0,2,0)
   // -> (10,2,0); (0,1,0) -> (0,1,0) -> (-1,0,0) -> (9,0,0). Rotating first would put (1,0,0) at
   // (10,1,0) and (0,1,0) at (8,0,0).
@@ -236,11 +236,12 @@ TEST_CASE("aff: a non-uniform scale with a rotation scales first, then rotates (
   CHECK(holds(p, {10, 0, 0}));
   CHECK(holds(p, {10, 2, 0}));
   CHECK(holds(p, {9, 0, 0}));
-  // Keyframes (k: scale and rot tracks, constant here): the same order, without the translation.
-  const Scene moving = load_scene(d.write("moving.aff", std::string(kView) + "a 0 1 2\nl 0 0 5\nf 1 1 1 1 0 1 0 1\n"
+  // Keyframes (k: scale and rot tracks of four keys, constant here; frames 0 and 1 are times 1
+  // and 2, the curve's span): the same order, without the translation.
+  const Scene moving = load_scene(d.write("moving.aff", std::string(kView) + "a 1 2 2\nl 0 0 5\nf 1 1 1 1 0 1 0 1\n"
                                                                              "x mover\n{\n" + kTri + "}\n"
-                                                                             "k mover\n{\nscale 2\n0 2 1 1 0 0 0\n1 2 1 1 0 0 0\n"
-                                                                             "rot 2\n0 0 0 1 90 0 0 0\n1 0 0 1 90 0 0 0\n}\n"));
+                                                                             "k mover\n{\nscale 4\n0 2 1 1 0 0 0\n1 2 1 1 0 0 0\n2 2 1 1 0 0 0\n3 2 1 1 0 0 0\n"
+                                                                             "rot 4\n0 0 0 1 90 0 0 0\n1 0 0 1 90 0 0 0\n2 0 0 1 90 0 0 0\n3 0 0 1 90 0 0 0\n}\n"));
   for (double frame : {0.0, 0.5, 1.0}) {
     INFO("frame " << frame);
     p = world_points(moving, frame);
