@@ -220,3 +220,14 @@ TEST_CASE("spatial: when two axes cut to the same area the first axis (x before 
   const std::vector<Box<double>> turned = {cube(0, 0), cube(2, 2), cube(2, 0), cube(0, 2)};
   CHECK(spatial_regions(turned, equal, 2) == std::vector<Ids>{{0, 3}, {1, 2}});
 }
+
+TEST_CASE("spatial: a sphere that widens two units equally stays in its own region's unit", "[balance][spatial]") {
+  // A = [0, 10]^3 (centre 5), B = [8, 9]^3 (8.5), C = [20, 21]^3 (20.5), equal weights, two
+  // units: the regions are {A} and {B, C} (on every axis the same order; the first cut of the
+  // two equally balanced ones). At locality 1 a sphere goes where it widens a unit's bound
+  // least: B lies inside both bounds ([0, 10]^3 and [8, 21]^3), a tie that its region's unit,
+  // 1, wins, although unit 0 comes first.
+  const std::vector<Box<double>> boxes = {{{0, 0, 0}, {10, 10, 10}}, {{8, 8, 8}, {9, 9, 9}}, {{20, 20, 20}, {21, 21, 21}}};
+  CHECK(spatial_regions(boxes, {1, 1, 1}, 2) == std::vector<Ids>{{0}, {1, 2}});
+  CHECK(assign_spatial(boxes, {1, 1, 1}, 2, 1).unit == std::vector<Ids>{{0}, {1, 2}});
+}

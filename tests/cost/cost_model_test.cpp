@@ -255,3 +255,20 @@ TEST_CASE("cost: the router's energy is a box test and a register read per bound
   f.router_tests = 0;
   CHECK(*frame_energy_j(t, d, op_counts(Kernel::moller), f).of("router") == 0);
 }
+
+TEST_CASE("cost: box and node tests read and write the register file as the other operations do", "[cost][bvh]") {
+  // One box test (6 adds, 7 multiplies, 6 comparisons: 19 operations) at 65 nm: 3
+  // register-file accesses per operation at 7.89613 pJ; node tests likewise, per operation of
+  // their graph.
+  const Tech t = load_tech(kDir + "65nm.json");
+  const Design d = serial_units(1);
+  FrameActivity f;
+  f.units.resize(1);
+  f.units[0].work.box_tests = 1;
+  const OpCounts per_op = op_counts(Kernel::moller);
+  CHECK(*frame_energy_j(t, d, per_op, f).of("register_file") == Approx(3 * 19 * 7.89613e-12));
+  f.units[0].work.box_tests = 0;
+  f.units[0].work.node_tests = 2;
+  CHECK(*frame_energy_j(t, d, per_op, f).of("register_file") == Approx(3 * 2.0 * per_op.node.total() * 7.89613e-12));
+  CHECK(per_op.node.total() > 0);
+}

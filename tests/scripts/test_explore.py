@@ -391,6 +391,39 @@ class TestFrames(ExploreTestCase):
         self.assertEqual(again["reason"], f"energy_j.total {energy[1]:.6g} > {mid_e:g} (max); "
                                           f"parallel_efficiency {efficiency[0]:.6g} < {mid_p:g} (min)")
 
+    def test_an_infeasible_evaluation_keeps_the_hypervolume_reached(self):
+        # Two configurations in grid order (2 units, then 8), an area bound between their areas
+        # that the first meets and the second does not. The hypervolume curve after the second
+        # evaluation is the one after the first (an infeasible point adds nothing and takes
+        # nothing away), and it is the box between the point and a reference point far away.
+        probe = self.space({"ius": {"choice": [2, 8]}, "tech": TECH45}, name="probe.json", constraints={})
+        out = os.path.join(self.dir, "probe")
+        r = self.explore(probe, "--grid", out=out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        area = {}
+        for row in self.rows(out=out):
+            with open(os.path.join(out, "trials", f"{int(row['trial']):05d}", "paper_room", "stats.json")) as f:
+                area[int(row["ius"])] = json.load(f)["area_mm2"]["total"]
+        self.assertNotEqual(area[2], area[8])
+        # (Two units hold half the scene each: their memories may well make them the larger.)
+        kind = "max" if area[2] < area[8] else "min"
+        ref = {"frame_time_s": 1.0, "energy_j": 1.0, "area_mm2": 1000.0}
+        space = self.space({"ius": {"choice": [2, 8]}, "tech": TECH45},
+                           constraints={"area_mm2": {kind: (area[2] + area[8]) / 2}}, reference_point=ref)
+        r = self.explore(space, "--grid")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = sorted(self.rows(), key=lambda row: int(row["trial"]))
+        self.assertEqual([(row["ius"], row["state"]) for row in rows], [("2", "complete"), ("8", "infeasible")])
+        point = [float(rows[0][o]) / ref[o] for o in OBJECTIVES]
+        expected = hypervolume([point], [1.0, 1.0, 1.0])
+        self.assertGreater(expected, 0)
+        curve = self.rows("hypervolume.csv")
+        self.assertEqual(len(curve), 2)
+        self.assertAlmostEqual(float(curve[0]["hypervolume"]), expected, places=12)
+        self.assertAlmostEqual(float(curve[1]["hypervolume"]), expected, places=12)
+        with open(os.path.join(self.out, "result.json")) as f:
+            self.assertAlmostEqual(json.load(f)["hypervolume"], expected, places=12)
+
 
 class TestSearch(ExploreTestCase):
     PARAMS = {"ius": {"int": [1, 16], "log": True}, "iu.model": {"choice": ["serial", "pipelined"]},

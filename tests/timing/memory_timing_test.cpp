@@ -48,3 +48,25 @@ TEST_CASE("memory timing: BVH node and leaf fetches are dependent bursts", "[mem
   c.latency = 0;
   CHECK(hw::stream_stall(c, log, 5) == 2 + 3 + 2);
 }
+
+TEST_CASE("memory timing: a triangle one cycle late stalls the unit one cycle and bytes round up", "[memory]") {
+  hw::StreamCosts c;
+  c.latency = 10;
+  c.bytes_per_cycle = 4;
+  c.triangle_bytes = 48;
+  c.lead = 21;
+  c.triangle = kTri;
+  // The first triangle arrives at 10 + 12 = 22, the unit is free at 21: one cycle stalled;
+  // then 22 -> 44 -> 66 -> 88 with the others (34, 46) in time.
+  const std::uint8_t stages[] = {3, 3, 3};
+  CHECK(hw::stream_stall(c, stages, 3) == 1);
+  c.lead = 22;  // free exactly when it arrives: no stall
+  CHECK(hw::stream_stall(c, stages, 3) == 0);
+  // 48 bytes at 5 per cycle take 10 cycles (9.6 rounded up): the first triangle is there at
+  // 20, the second at 30 (96 / 5 = 19.2: 20 cycles); with the unit free at 19, one stall.
+  c.bytes_per_cycle = 5;
+  c.lead = 19;
+  CHECK(hw::stream_stall(c, stages, 1) == 1);
+  c.lead = 20;
+  CHECK(hw::stream_stall(c, stages, 1) == 0);
+}
