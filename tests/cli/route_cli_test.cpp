@@ -223,6 +223,12 @@ TEST_CASE("route: ordered routing writes each ray in waves of `wave` units (bus 
     };
     const auto transfers = [](const nlohmann::json& f) { return f["bus"]["transfers"].get<std::uint64_t>(); };
     const auto multicast = run(std::string(level) + "_multicast", R"({"policy": "multicast"})");
+    // Without trees over the units' spheres the GPP refits a unit's bound as the union of its
+    // spheres' bounds: one refit step per sphere, at 20 cycles each (the default GPP).
+    std::uint64_t spheres = 0;
+    for (const auto& u : multicast["ius"]) spheres += u["spheres"].size();
+    CHECK(multicast["gpp"]["refit_nodes"].get<std::uint64_t>() == spheres);
+    CHECK(multicast["gpp"]["refit_cycles"].get<std::uint64_t>() == 20 * spheres);
     const std::uint64_t others = transfers(multicast) - waves_and_answers(multicast, 6);
     for (std::uint64_t wave : {1, 2, 3, 6}) {
       INFO("wave " << wave);
