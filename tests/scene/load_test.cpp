@@ -162,3 +162,18 @@ TEST_CASE("scene: keyframes at the same frame are refused and a key without a tr
   CHECK(p.z == Approx(3));
   CHECK(scene.objects[0].motion->at(5).point({0, 0, 0}).x == Approx(1));
 }
+
+TEST_CASE("scene: an animated object's keyframes move the object placed by its transform", "[load]") {
+  // Placed +(1, 0, 0) by "transform", then turned 90 degrees about z by its only keyframe:
+  // world = animation(f) x placement, so the origin goes to (1,0,0) and then to (0,1,0).
+  // (Placement after animation would leave it at (1,0,0).)
+  TempScene s(with_objects(R"({"mesh": {"vertices": [[0,0,0],[1,0,0],[0,1,0]], "triangles": [[0,1,2]]},
+      "transform": {"translate": [1, 0, 0]},
+      "animation": {"keyframes": [{"frame": 0, "rotate": {"axis": [0, 0, 1], "deg": 90}}]}})"));
+  const Scene scene = load_scene(s.path);
+  REQUIRE(scene.objects.size() == 1);
+  const Vec3d p = scene.objects[0].motion->at(0).point({0, 0, 0});
+  CHECK(p.x == Approx(0).margin(1e-12));
+  CHECK(p.y == Approx(1));
+  CHECK(p.z == Approx(0).margin(1e-12));
+}
