@@ -159,3 +159,21 @@ TEST_CASE("modulo schedules: fewer units raise II to the resource bound; latenci
   CHECK(t.length() == 9);
   CHECK_THROWS(modulo_schedule(moller_graph(), FpUnits{0, 1, 1, 1}));
 }
+
+TEST_CASE("modulo schedules: II rounds the ops per unit up and a stage exits when its result is out", "[schedule][pipelined]") {
+  // 18 adder ops on 4 adders need 5 slots (4.5 rounded up), 21 multiplies on 4 multipliers 6:
+  // II = 6. Rounding down would give 5, too few slots for 21 multiplies.
+  const FpUnits four{4, 4, 1, 1};
+  const Schedule s = modulo_schedule(moller_graph(), four);
+  check_modulo(s, four);
+  CHECK(s.ii == 6);
+  // Multiplies of latency 3 and adds of 2, a unit per op: det = (dx*nx + dy*ny) + dz*nz has
+  // its products issued in cycle 1 (out at the end of cycle 3), the first add in cycle 4 (out
+  // at 5), the second in cycle 6, whose result is out at the end of cycle 7: the det stage
+  // exits at 7, not at 6 when the op is issued.
+  const FpUnits slow = full_units(moller_graph(), 2, 3);
+  const Schedule t = modulo_schedule(moller_graph(), slow);
+  check_modulo(t, slow);
+  CHECK(t.ii == 1);
+  CHECK(t.exit_cycle[0] == 7);
+}

@@ -289,3 +289,26 @@ TEST_CASE("the balanced split cuts at the gap between clusters, the median split
   CHECK(median[0].size() == 20);
   CHECK(median[1].size() == 20);
 }
+
+TEST_CASE("the paper's assignment gives each unit a contiguous block of spheres", "[balance]") {
+  // Sphere s to unit floor(s x units / spheres): 10 spheres on 4 units are 0-2, 3-4, 5-7, 8-9.
+  using Ids = std::vector<std::uint32_t>;
+  CHECK(assign_paper(10, 4).unit == std::vector<Ids>{{0, 1, 2}, {3, 4}, {5, 6, 7}, {8, 9}});
+  CHECK(assign_paper(4, 2).unit == std::vector<Ids>{{0, 1}, {2, 3}});
+}
+
+TEST_CASE("the median split cuts the longest axis of the centroids", "[balance]") {
+  // Four small triangles at y = 0, 3, 1, 2 (ids 0 to 3), x and z the same: y is the longest
+  // axis, and its median puts ids 0 and 2 (y = 0, 1) on one side, 1 and 3 on the other.
+  Mesh m;
+  for (double y : {0.0, 3.0, 1.0, 2.0}) {
+    const auto b = static_cast<std::uint32_t>(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), {{0, y, 0}, {0.1, y, 0}, {0, y + 0.1, 0}});
+    m.triangles.push_back({b, b + 1, b + 2});
+  }
+  auto parts = subdivide(m, 2, SplitRule::median);
+  REQUIRE(parts.size() == 2);
+  for (auto& p : parts) std::sort(p.begin(), p.end());
+  std::sort(parts.begin(), parts.end());
+  CHECK(parts == std::vector<std::vector<std::uint32_t>>{{0, 2}, {1, 3}});
+}

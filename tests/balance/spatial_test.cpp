@@ -204,3 +204,30 @@ TEST_CASE("sphere world boxes follow the objects' matrices", "[balance][spatial]
     CHECK_FALSE(at0[i].empty());
   }
 }
+
+TEST_CASE("spatial: when two axes cut to the same area the first axis (x before y) is cut", "[balance][spatial]") {
+  // Four unit cubes at the corners of a square in the xy plane (centres (0,0), (2,2), (0,2),
+  // (2,0)), equal weights, two regions. Cut along x: {0, 2} and {1, 3}, two boxes 1 x 3 x 1 of
+  // area 2 (3 + 3 + 1) = 14 each, 28 in all; along y: {0, 3} and {1, 2}, also 28; along z
+  // (every centre at z = 0: the ids' order) {0, 1} and {2, 3}, two diagonal boxes 3 x 3 x 1 of
+  // area 30 each, 60. x and y tie; the first axis tried, x, is kept.
+  const auto cube = [](double x, double y) { return Box<double>{{x - 0.5, y - 0.5, -0.5}, {x + 0.5, y + 0.5, 0.5}}; };
+  const std::vector<Box<double>> boxes = {cube(0, 0), cube(2, 2), cube(0, 2), cube(2, 0)};
+  const std::vector<double> equal(4, 1);
+  CHECK(spatial_regions(boxes, equal, 2) == std::vector<Ids>{{0, 2}, {1, 3}});
+  CHECK(assign_spatial(boxes, equal, 2, 1).unit == std::vector<Ids>{{0, 2}, {1, 3}});
+  // Turned a quarter (x <-> y), the same square cuts along the new x: the rule is the axis order.
+  const std::vector<Box<double>> turned = {cube(0, 0), cube(2, 2), cube(2, 0), cube(0, 2)};
+  CHECK(spatial_regions(turned, equal, 2) == std::vector<Ids>{{0, 3}, {1, 2}});
+}
+
+TEST_CASE("spatial: a sphere that widens two units equally stays in its own region's unit", "[balance][spatial]") {
+  // A = [0, 10]^3 (centre 5), B = [8, 9]^3 (8.5), C = [20, 21]^3 (20.5), equal weights, two
+  // units: the regions are {A} and {B, C} (on every axis the same order; the first cut of the
+  // two equally balanced ones). At locality 1 a sphere goes where it widens a unit's bound
+  // least: B lies inside both bounds ([0, 10]^3 and [8, 21]^3), a tie that its region's unit,
+  // 1, wins, although unit 0 comes first.
+  const std::vector<Box<double>> boxes = {{{0, 0, 0}, {10, 10, 10}}, {{8, 8, 8}, {9, 9, 9}}, {{20, 20, 20}, {21, 21, 21}}};
+  CHECK(spatial_regions(boxes, {1, 1, 1}, 2) == std::vector<Ids>{{0}, {1, 2}});
+  CHECK(assign_spatial(boxes, {1, 1, 1}, 2, 1).unit == std::vector<Ids>{{0}, {1, 2}});
+}

@@ -559,3 +559,26 @@ TEST_CASE("cli: info lists the reflective and transmissive materials and the ver
   CHECK(r.output.find((d / "bad.json").string() + ": /materials/m/ior: value 0.5 is out of range [1, 10]") !=
         std::string::npos);
 }
+
+TEST_CASE("cli: a ray FIFO never holds more rays than its depth, at every level", "[cli][fifo]") {
+  // Four units behind FIFOs of depth 2, the GPP free to write a ray every cycle: units take
+  // tens of cycles per ray, so every FIFO fills to its depth and the GPP then waits for room.
+  // No FIFO may ever hold a third ray, and each reaches 2; every ray written is read.
+  const fs::path d = temp_dir("fifo_depth");
+  std::ofstream(d / "arch.json") << R"({"format": "oprt-arch/1", "ius": 4, "ray_fifo_depth": 2})";
+  for (const char* level : {"at", "lt", "analytic"}) {
+    INFO(level);
+    const fs::path out = d / level;
+    const Result r = run_oprt("render " + scene("paper_room.json") + " --arch " + (d / "arch.json").string() +
+                              " --level " + level + " --frames 0 --resolution 16x16 --no-progress --out " + out.string());
+    REQUIRE(r.status == 0);
+    const auto s = stats(out);
+    std::uint64_t most = 0;
+    for (const auto& u : s["frames"][0]["ius"]) {
+      CHECK(u["fifo"]["peak"].get<std::uint64_t>() <= 2);
+      CHECK(u["fifo"]["pushes"] == u["fifo"]["pops"]);
+      most = std::max(most, u["fifo"]["peak"].get<std::uint64_t>());
+    }
+    CHECK(most == 2);
+  }
+}

@@ -221,3 +221,64 @@ TEST_CASE("route: per-sphere bounds send fewer rays and render the same image at
     else CHECK(sphere["frames"][1]["makespan_cycles"] == at[1]["makespan_cycles"]);
   }
 }
+
+TEST_CASE("route: ordered routing writes each ray in waves of `wave` units (bus transfers counted)", "[cli][route]") {
+  // With the mask transfer (the default) every wave a ray is written in is one bus transfer,
+  // and every unit's answer another; the frame's other transfers (S: configuration and
+  // geometry) are the same for every route on one partition. A ray that goes to k units in
+  // waves of W units goes in ceil(k / W) waves (each wave but the last is full: a skipped
+  // unit is not in a wave). So, with hist[k] the rays that went to k units:
+  //   multicast (one wave):  T = S + sum_{k>0} hist[k] + sum_k k hist[k]
+  //   ordered, wave W:       T = S + sum_k ceil(k / W) hist[k] + sum_k k hist[k]
+  // and with W at least the unit count nothing is skipped: the multicast's fan-out exactly.
+  const fs::path d = temp_dir("route_waves");
+  const std::string common = "render " + scene("paper_room.json") + " --frames 1" + kCommon +
+                             " --balance spatial --locality 1 --out ";
+  for (const char* level : {"analytic", "at"}) {
+    INFO(level);
+    const auto run = [&](const std::string& name, const std::string& route) {
+      const fs::path arch = d / (name + ".json");
+      std::ofstream(arch) << R"({"format": "oprt-arch/1", "route": )" << route << "}";
+      REQUIRE(run_oprt(common + (d / name).string() + " --level " + level + " --arch " + arch.string()).status == 0);
+      const auto f = stats(d / name)["frames"][0];
+      check_route_figures(f, 6);
+      return f;
+    };
+    const auto waves_and_answers = [](const nlohmann::json& f, std::uint64_t wave) {
+      const auto hist = f["route"]["fanout_histogram"].get<std::vector<std::uint64_t>>();
+      std::uint64_t n = 0;
+      for (std::uint64_t k = 1; k < hist.size(); ++k) n += hist[k] * ((k + wave - 1) / wave + k);
+      return n;
+    };
+    const auto transfers = [](const nlohmann::json& f) { return f["bus"]["transfers"].get<std::uint64_t>(); };
+    const auto multicast = run(std::string(level) + "_multicast", R"({"policy": "multicast"})");
+    // Without trees over the units' spheres the GPP refits a unit's bound as the union of its
+    // spheres' bounds: one refit step per sphere, at 20 cycles each (the default GPP).
+    std::uint64_t spheres = 0;
+    for (const auto& u : multicast["ius"]) spheres += u["spheres"].size();
+    CHECK(multicast["gpp"]["refit_nodes"].get<std::uint64_t>() == spheres);
+    CHECK(multicast["gpp"]["refit_cycles"].get<std::uint64_t>() == 20 * spheres);
+    const std::uint64_t others = transfers(multicast) - waves_and_answers(multicast, 6);
+    for (std::uint64_t wave : {1, 2, 3, 6}) {
+      INFO("wave " << wave);
+      const auto f = run(std::string(level) + "_ordered_" + std::to_string(wave),
+                         R"({"policy": "ordered", "wave": )" + std::to_string(wave) + "}");
+      CHECK(transfers(f) == others + waves_and_answers(f, wave));
+      CHECK(f["image_hash"] == multicast["image_hash"]);
+      if (wave == 6) {
+        CHECK(f["route"]["skipped"] == 0);
+        CHECK(f["route"]["fanout_histogram"] == multicast["route"]["fanout_histogram"]);
+        // The router's cycles: the multicast's bound tests, plus sorting the k units a ray
+        // entered, k ceil(log2 k) cycles (nothing skipped: entered = went to).
+        const std::uint64_t ceil_log2[] = {0, 0, 1, 2, 2, 3, 3};
+        const auto hist = f["route"]["fanout_histogram"].get<std::vector<std::uint64_t>>();
+        std::uint64_t sort = 0;
+        for (std::uint64_t k = 1; k < hist.size(); ++k) sort += hist[k] * k * ceil_log2[k];
+        CHECK(sort > 0);
+        CHECK(f["route"]["cycles"].get<std::uint64_t>() == multicast["route"]["cycles"].get<std::uint64_t>() + sort);
+      } else {
+        CHECK(f["route"]["skipped"].get<std::uint64_t>() > 0);
+      }
+    }
+  }
+}

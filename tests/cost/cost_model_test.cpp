@@ -226,3 +226,49 @@ TEST_CASE("cost: a pipelined unit's buffers are charged at the register file's p
   const Cost e = frame_energy_j(t, d, op_counts(Kernel::moller), f);
   CHECK(*e.of("pipeline_buffers") == Approx(10 * 7.89613e-12));
 }
+
+TEST_CASE("cost: the router's energy is a box test and a register read per bound tested, by hand", "[cost][route]") {
+  // 65 nm: fp_add 7.4 pJ, fp_multiply 14.2 pJ, register file 7.89613 pJ. A box test is 6
+  // subtractions, 7 multiplies and 6 comparisons (the operation counts above); comparisons run
+  // on the adder unless the IU has comparators. Five bounds tested, no other work.
+  const Tech t = load_tech(kDir + "65nm.json");
+  const Design d = serial_units(1);
+  FrameActivity f;
+  f.units.resize(1);
+  f.router_tests = 5;
+  const Cost e = frame_energy_j(t, d, op_counts(Kernel::moller), f);
+  const double per_test = 6 * 7.4 + 7 * 14.2 + 6 * 7.4 + 7.89613;  // 196.09613 pJ
+  REQUIRE(e.of("router"));
+  CHECK(*e.of("router") == Approx(5 * per_test * 1e-12).epsilon(1e-12));
+  CHECK(*e.of("router") == Approx(980.48065e-12).epsilon(1e-12));
+  // The router's work is its own: none of it shows as the IUs' box tests or register accesses.
+  CHECK(*e.of("box_tests") == 0);
+  CHECK(*e.of("register_file") == 0);
+  // With comparators the 6 comparisons cost 0.54 pJ each.
+  Design with_cmp = d;
+  with_cmp.iu.comparators = 1;
+  CHECK(*frame_energy_j(t, with_cmp, op_counts(Kernel::moller), f).of("router") ==
+        Approx(5 * (6 * 7.4 + 7 * 14.2 + 6 * 0.54 + 7.89613) * 1e-12).epsilon(1e-12));
+  // Twice the bounds tested, twice the energy; none tested, none charged.
+  f.router_tests = 10;
+  CHECK(*frame_energy_j(t, d, op_counts(Kernel::moller), f).of("router") == Approx(10 * per_test * 1e-12).epsilon(1e-12));
+  f.router_tests = 0;
+  CHECK(*frame_energy_j(t, d, op_counts(Kernel::moller), f).of("router") == 0);
+}
+
+TEST_CASE("cost: box and node tests read and write the register file as the other operations do", "[cost][bvh]") {
+  // One box test (6 adds, 7 multiplies, 6 comparisons: 19 operations) at 65 nm: 3
+  // register-file accesses per operation at 7.89613 pJ; node tests likewise, per operation of
+  // their graph.
+  const Tech t = load_tech(kDir + "65nm.json");
+  const Design d = serial_units(1);
+  FrameActivity f;
+  f.units.resize(1);
+  f.units[0].work.box_tests = 1;
+  const OpCounts per_op = op_counts(Kernel::moller);
+  CHECK(*frame_energy_j(t, d, per_op, f).of("register_file") == Approx(3 * 19 * 7.89613e-12));
+  f.units[0].work.box_tests = 0;
+  f.units[0].work.node_tests = 2;
+  CHECK(*frame_energy_j(t, d, per_op, f).of("register_file") == Approx(3 * 2.0 * per_op.node.total() * 7.89613e-12));
+  CHECK(per_op.node.total() > 0);
+}

@@ -1,8 +1,11 @@
 // The bus on its own: address decoding, offsets, multicast, unmapped addresses, and the
 // shared bus's occupancy by hand.
 #include "hw/bus.h"
+#include "hw/ray_fifo.h"
 
 #include <catch2/catch.hpp>
+
+#include <cstring>
 
 #include <tlm_utils/simple_initiator_socket.h>
 #include <tlm_utils/simple_target_socket.h>
@@ -79,4 +82,53 @@ TEST_CASE("bus: decodes the map and answers unmapped addresses with an address e
   CHECK(a.at[1] == sc_time(80, SC_NS));
   CHECK(bus.busy_cycles() == 2 + 4 + 2);
   CHECK(bus.transfers() == 3);
+}
+
+namespace {
+// Writes rays into a FIFO of depth 2 and pops them at times ahead of simulation time, as a
+// temporally decoupled unit does; records when the FIFO says the next write's slot was freed.
+struct FifoDriver : sc_module {
+  tlm_utils::simple_initiator_socket<FifoDriver> out{"out"};
+  hw::RayFifo& fifo;
+  std::vector<sc_time> room;
+  std::vector<bool> space;
+  SC_HAS_PROCESS(FifoDriver);
+  FifoDriver(const sc_module_name& n, hw::RayFifo& f) : sc_module(n), fifo(f) { SC_THREAD(run); }
+  void write(std::uint32_t id) {
+    unsigned char data[36] = {};
+    std::memcpy(data, &id, 4);
+    tlm::tlm_generic_payload p;
+    p.set_command(tlm::TLM_WRITE_COMMAND);
+    p.set_data_ptr(data);
+    p.set_data_length(36);
+    sc_time d = SC_ZERO_TIME;
+    out->b_transport(p, d);
+  }
+  void look() {  // space_time() is asked only when there is room (the GPP's rule)
+    space.push_back(fifo.has_space());
+    room.push_back(space.back() ? fifo.space_time() : SC_ZERO_TIME);
+  }
+  void run() {
+    write(1);
+    write(2);
+    look();  // full: no room
+    hw::RayEntry e;
+    fifo.pop(e, sc_time(100, SC_NS));  // ray 1 leaves at 100 ns, ahead of simulation time (0)
+    look();  // the third write's slot is ray 1's: free from 100 ns
+    write(3);
+    fifo.pop(e, sc_time(150, SC_NS));
+    look();  // the fourth write's slot is ray 2's: free from 150 ns
+  }
+};
+}  // namespace
+
+TEST_CASE("ray fifo: a write's slot is free from the pop that freed it, also for the first full FIFO", "[fifo]") {
+  hw::RayFifo fifo("fifo", 2, nullptr);
+  FifoDriver driver("driver", fifo);
+  driver.out.bind(fifo.in);
+  sc_start();
+  REQUIRE(driver.room.size() == 3);
+  CHECK(driver.space == std::vector<bool>{false, true, true});
+  CHECK(driver.room[1] == sc_time(100, SC_NS));
+  CHECK(driver.room[2] == sc_time(150, SC_NS));
 }

@@ -1,5 +1,6 @@
 // The router's decisions on boxes placed by hand (ref/route.h): which units a ray enters,
 // at what distance, in which order, and when the closest hit so far makes a unit useless.
+#include "ref/frame_trace.h"
 #include "ref/route.h"
 
 #include <catch2/catch.hpp>
@@ -125,4 +126,94 @@ TEST_CASE("route: a replicated sphere's box addresses exactly one copy, by the r
   CHECK_FALSE(t.worth(along_x, 3, 7.5f, 2));  // a hit at 7.5: the copy's box begins at 8
   CHECK_FALSE(t.worth(along_x, 3, 8.5f, 1));  // not unit 3's share
   CHECK(t.worth(along_x, 2, 8.5f, 1));
+}
+
+namespace {
+// Counts what route_ray (ref/frame_trace.h) tells the recorder: the units visited, in order,
+// the waves and the skipped units.
+struct WaveCounter {
+  std::vector<std::uint32_t> visited, skipped;
+  std::vector<std::size_t> wave_sizes;  // units visited per wave
+  std::size_t in_wave = 0;
+  void wave_end() {
+    wave_sizes.push_back(in_wave);
+    in_wave = 0;
+  }
+  void skip(std::uint32_t u) { skipped.push_back(u); }
+};
+
+// Five units, boxes x in [2k, 2k + 1] for k = 1..5, all on the ray's line: entered at 2, 4,
+// 6, 8 and 10, in unit order. `hit_in` (a unit, its hit's t): the closest hit once that unit
+// has answered. `occluder`: a shadow ray's unit that answers "occluded".
+WaveCounter route_five(std::uint32_t wave, std::uint32_t hit_in = 99, float hit_t = 0, std::uint32_t occluder = 99) {
+  RouteTable<float> t;
+  t.route = Route::ordered;
+  t.wave = wave;
+  for (int k = 1; k <= 5; ++k) t.bound.push_back(slab_x(2.0f * k, 2.0f * k + 1));
+  const SceneGeometry<float> g;
+  const std::vector<IuRegisters<float>> units(5);
+  const CameraRays camera(Camera{}, 1, 1);
+  const Scene scene;
+  const FrameSetup<float> setup;
+  const Shader<float> shader(scene, setup);
+  const FrameTraceInputs<float> in{g, units, camera, shader, false, &t};
+  PixelScratch<float> scratch;
+  WaveCounter rec;
+  float limit = kInf<float>;
+  route_ray(
+      in, along_x, 0, rec, scratch,
+      [&](std::uint32_t u) {
+        rec.visited.push_back(u);
+        ++rec.in_wave;
+        if (u == hit_in) limit = hit_t;
+        return u == occluder;
+      },
+      [&] { return limit; });
+  return rec;
+}
+}  // namespace
+
+TEST_CASE("route: ordered routing sends a ray in waves of `wave` units, nearest first", "[ref][route]") {
+  using Sizes = std::vector<std::size_t>;
+  using Units = std::vector<std::uint32_t>;
+  // Nothing hit: all five units, in waves of 1, 2, 3, 5 and 8 units: 5, 3, 2, 1 and 1 waves.
+  for (const auto& [wave, sizes] : {std::pair<std::uint32_t, Sizes>{1, {1, 1, 1, 1, 1}}, {2, {2, 2, 1}}, {3, {3, 2}},
+                                    {5, {5}}, {8, {5}}}) {
+    INFO("wave " << wave);
+    const WaveCounter r = route_five(wave);
+    CHECK(r.wave_sizes == sizes);
+    CHECK(r.visited == Units{0, 1, 2, 3, 4});
+    CHECK(r.skipped.empty());
+  }
+  // A hit at t = 4.5 in unit 1 (entered at 4): after the first wave of two, units 2, 3 and 4
+  // are entered beyond it (at 6, 8, 10) and skipped; one wave in all.
+  WaveCounter r = route_five(2, 1, 4.5f);
+  CHECK(r.wave_sizes == Sizes{2});
+  CHECK(r.visited == Units{0, 1});
+  CHECK(r.skipped == Units{2, 3, 4});
+  // In waves of one the hit in unit 1 is known before unit 2: again two units visited, two waves.
+  r = route_five(1, 1, 4.5f);
+  CHECK(r.wave_sizes == Sizes{1, 1});
+  CHECK(r.skipped == Units{2, 3, 4});
+  // A hit at 8 (unit 3's entry, in unit 1): units 2 and 3 are still worth a visit (a unit entered
+  // at the hit may hold an equal t), unit 4 is not; the skipped unit does not count in a wave.
+  r = route_five(2, 1, 8.0f);
+  CHECK(r.wave_sizes == Sizes{2, 2});
+  CHECK(r.visited == Units{0, 1, 2, 3});
+  CHECK(r.skipped == Units{4});
+  // The hit is known only when its wave is over: in one wave of three the third unit is
+  // visited although the hit in the second lies before it.
+  r = route_five(3, 1, 4.5f);
+  CHECK(r.wave_sizes == Sizes{3});
+  CHECK(r.skipped == Units{3, 4});
+  // A shadow ray occluded in unit 0 stops after its wave: unit 1 (same wave) is still asked,
+  // the rest are skipped.
+  r = route_five(2, 99, 0, 0);
+  CHECK(r.wave_sizes == Sizes{2});
+  CHECK(r.visited == Units{0, 1});
+  CHECK(r.skipped == Units{2, 3, 4});
+  // Occluded in the last wave's first unit: its second unit is still asked, nothing is skipped.
+  r = route_five(3, 99, 0, 3);
+  CHECK(r.wave_sizes == Sizes{3, 2});
+  CHECK(r.skipped.empty());
 }

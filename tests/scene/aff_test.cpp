@@ -212,6 +212,45 @@ TEST_CASE("aff: a keyframe track moves its object by the hand-computed values", 
   }
 }
 
+TEST_CASE("aff: a non-uniform scale with a rotation scales first and then rotates (BART's T R S)", "[aff]") {
+  // Scale (2, 1, 1), then 90 degrees about z, then +(10, 0, 0): (1,0,0) -> (2,0,0) -> (0,2,0)
+  // -> (10,2,0); (0,1,0) -> (0,1,0) -> (-1,0,0) -> (9,0,0). Rotating first would put (1,0,0) at
+  // (10,1,0) and (0,1,0) at (8,0,0).
+  const auto world_points = [](const Scene& s, double frame) {
+    REQUIRE(s.objects.size() == 1);
+    const Object& o = s.objects[0];
+    std::vector<Vec3d> p;
+    for (const Vec3d& v : o.mesh.vertices) p.push_back(o.motion->at(frame).point(v));
+    return p;
+  };
+  const auto holds = [](const std::vector<Vec3d>& points, const Vec3d& want) {
+    for (const Vec3d& p : points)
+      if (std::fabs(p.x - want.x) < 1e-9 && std::fabs(p.y - want.y) < 1e-9 && std::fabs(p.z - want.z) < 1e-9) return true;
+    return false;
+  };
+  TempDir d;
+  // A static transform (xs: scale, axis and angle, translation).
+  const Scene still = load_scene(d.write("still.aff", std::string(kView) + "l 0 0 5\nf 1 1 1 1 0 1 0 1\n"
+                                                                           "xs 2 1 1  0 0 1 90  10 0 0\n{\n" + kTri + "}\n"));
+  auto p = world_points(still, 0);
+  CHECK(holds(p, {10, 0, 0}));
+  CHECK(holds(p, {10, 2, 0}));
+  CHECK(holds(p, {9, 0, 0}));
+  // Keyframes (k: scale and rot tracks of four keys, constant here; frames 0 and 1 are times 1
+  // and 2, the curve's span): the same order, without the translation.
+  const Scene moving = load_scene(d.write("moving.aff", std::string(kView) + "a 1 2 2\nl 0 0 5\nf 1 1 1 1 0 1 0 1\n"
+                                                                             "x mover\n{\n" + kTri + "}\n"
+                                                                             "k mover\n{\nscale 4\n0 2 1 1 0 0 0\n1 2 1 1 0 0 0\n2 2 1 1 0 0 0\n3 2 1 1 0 0 0\n"
+                                                                             "rot 4\n0 0 0 1 90 0 0 0\n1 0 0 1 90 0 0 0\n2 0 0 1 90 0 0 0\n3 0 0 1 90 0 0 0\n}\n"));
+  for (double frame : {0.0, 0.5, 1.0}) {
+    INFO("frame " << frame);
+    p = world_points(moving, frame);
+    CHECK(holds(p, {0, 0, 0}));
+    CHECK(holds(p, {0, 2, 0}));   // (1,0,0); rotated first: (0,1,0)
+    CHECK(holds(p, {-1, 0, 0}));  // (0,1,0); rotated first: (-2,0,0)
+  }
+}
+
 TEST_CASE("aff: every construct loads with its known contents", "[aff]") {
   const Scene s = load_scene(kData + "features.aff");
   CHECK(s.frame_count == 5);

@@ -596,3 +596,35 @@ TEST_CASE("gltf: bad transmission, ior and NORMAL name their JSON path", "[gltf]
   expect([](json& d) { d["accessors"][1]["type"] = "VEC4"; d["accessors"][1]["count"] = 2; }, "/accessors/1",
          "expected type VEC3");
 }
+
+TEST_CASE("gltf: CUBICSPLINE tangents are per second, scaled by the keys' interval", "[gltf]") {
+  // Keys 2 s apart, both values 0, the first key's out-tangent 1 per second, the second's
+  // in-tangent 0. Halfway (s = 0.5): h10 (s) = s^3 - 2 s^2 + s = 0.125, times dt = 2 s times
+  // the tangent 1: 0.25. (Unscaled, the tangent would give 0.125.)
+  GltfSampler c;
+  c.interpolation = GltfSampler::Interpolation::cubic_spline;
+  c.width = 3;
+  c.times = {0, 2};
+  c.values = {0, 0, 0, 0, 0, 0, 1, 0, 0,   // key 0: in-tangent, value, out-tangent
+              0, 0, 0, 0, 0, 0, 0, 0, 0};  // key 1
+  double v[3];
+  c.evaluate(1, v);
+  CHECK(v[0] == Approx(0.25));
+  CHECK(v[1] == 0);
+  // A quarter of the way (s = 0.25): h10 = 0.015625 - 0.125 + 0.25 = 0.140625, times 2.
+  c.evaluate(0.5, v);
+  CHECK(v[0] == Approx(0.28125));
+}
+
+TEST_CASE("gltf: a node's non-uniform scale applies before its rotation (T R S)", "[gltf]") {
+  // Scale (2, 1, 1), 90 degrees about z, then +(0, 0, 5): (1,0,0) -> (2,0,0) -> (0,2,0) -> (0,2,5);
+  // (0,1,0) -> (0,1,0) -> (-1,0,0) -> (-1,0,5). Rotating first would give (0,1,5) and (-2,0,5).
+  const Affine<double> m = trs_affine({0, 0, 5}, axis_angle({0, 0, 1}, 90), {2, 1, 1});
+  const Vec3d a = m.point({1, 0, 0}), b = m.point({0, 1, 0});
+  CHECK(a.x == Approx(0).margin(1e-12));
+  CHECK(a.y == Approx(2));
+  CHECK(a.z == Approx(5));
+  CHECK(b.x == Approx(-1));
+  CHECK(b.y == Approx(0).margin(1e-12));
+  CHECK(b.z == Approx(5));
+}

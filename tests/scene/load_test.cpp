@@ -176,3 +176,53 @@ TEST_CASE("scene: bad reflect, transmit and ior name their JSON pointer", "[load
   expect_error(with_material(R"({"ior": 11})"), "/materials/m/ior", "out of range [1, 10]");
   expect_error(with_material(R"({"mirror": 1})"), "/materials/m/mirror", "unknown key");
 }
+
+TEST_CASE("scene: an OBJ face one past the last vertex is refused, also where the line check skips it", "[load][obj]") {
+  // Three vertices, a face naming vertex 4. The line check reads lines that start with "f ";
+  // an indented face line is parsed by the OBJ reader all the same, and the index check after
+  // it must still refuse vertex 4 of 3 (0-based 3: one past the last).
+  for (const char* face : {"f 1 2 4\n", "  f 1 2 4\n"}) {
+    INFO(face);
+    TempScene bad(std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\n") + face, ".obj");
+    try {
+      load_obj(bad.path);
+      FAIL("loaded vertex 4 of 3");
+    } catch (const InputError& e) {
+      CHECK(e.file() == bad.path);
+      CHECK(e.problem().find("vertex index 4 out of range") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("scene: keyframes at the same frame are refused and a key without a translation keeps the last", "[load]") {
+  expect_error(with_objects(R"({"mesh": {"generate": {"kind": "box"}}, "animation": {"keyframes": [{"frame": 5}, {"frame": 5}]}})"),
+               "/objects/0/animation/keyframes/1/frame", "increasing");
+  // Keys at 0 (+(1, 2, 3)) and 10 (a turn about z, no translation given): the object stays at
+  // +(1, 2, 3) while it turns. Frame 10: (1,0,0) -> 90 degrees -> (0,1,0) -> (1, 3, 3).
+  TempScene s(with_objects(R"({"mesh": {"vertices": [[0,0,0],[1,0,0],[0,1,0]], "triangles": [[0,1,2]]},
+      "animation": {"keyframes": [{"frame": 0, "translate": [1, 2, 3]},
+                                  {"frame": 10, "rotate": {"axis": [0, 0, 1], "deg": 90}}]}})",
+                           R"(, "frames": 11)"));
+  const Scene scene = load_scene(s.path);
+  REQUIRE(scene.objects.size() == 1);
+  const Vec3d p = scene.objects[0].motion->at(10).point({1, 0, 0});
+  CHECK(p.x == Approx(1));
+  CHECK(p.y == Approx(3));
+  CHECK(p.z == Approx(3));
+  CHECK(scene.objects[0].motion->at(5).point({0, 0, 0}).x == Approx(1));
+}
+
+TEST_CASE("scene: an animated object's keyframes move the object placed by its transform", "[load]") {
+  // Placed +(1, 0, 0) by "transform", then turned 90 degrees about z by its only keyframe:
+  // world = animation(f) x placement, so the origin goes to (1,0,0) and then to (0,1,0).
+  // (Placement after animation would leave it at (1,0,0).)
+  TempScene s(with_objects(R"({"mesh": {"vertices": [[0,0,0],[1,0,0],[0,1,0]], "triangles": [[0,1,2]]},
+      "transform": {"translate": [1, 0, 0]},
+      "animation": {"keyframes": [{"frame": 0, "rotate": {"axis": [0, 0, 1], "deg": 90}}]}})"));
+  const Scene scene = load_scene(s.path);
+  REQUIRE(scene.objects.size() == 1);
+  const Vec3d p = scene.objects[0].motion->at(0).point({0, 0, 0});
+  CHECK(p.x == Approx(0).margin(1e-12));
+  CHECK(p.y == Approx(1));
+  CHECK(p.z == Approx(0).margin(1e-12));
+}

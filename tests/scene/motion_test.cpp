@@ -62,3 +62,40 @@ TEST_CASE("camera: keyframed camera interpolates eye and target", "[motion]") {
   CHECK(c.at(1).target.x == Approx(1));
   CHECK(c.at(9).eye.x == Approx(4));
 }
+
+TEST_CASE("motion: keys more than half a turn apart interpolate along the shorter arc", "[motion]") {
+  // Keys at 0 and 270 degrees about z: 270 degrees one way, 90 the other. The rotations are
+  // the same as 0 and -90, so a third of the way is -30 degrees: (1,0,0) -> (cos 30, -sin 30, 0).
+  // The long way round would give +90 degrees, (0, 1, 0). The quaternions of the two keys
+  // (cos 0, sin 0 z) and (cos 135, sin 135 z) have a negative dot product: the second one
+  // stands for the same rotation negated, which is what takes the short way.
+  RigidKey a, b;
+  a.frame = 0;
+  a.rotate = axis_angle({0, 0, 1}, 0);
+  b.frame = 3;
+  b.rotate = axis_angle({0, 0, 1}, 270);
+  REQUIRE(glm::dot(a.rotate, b.rotate) < 0);
+  const KeyframeMotion m({a, b});
+  Vec3d p = m.at(1).point({1, 0, 0});
+  CHECK(p.x == Approx(std::sqrt(3.0) / 2));
+  CHECK(p.y == Approx(-0.5));
+  CHECK(p.z == Approx(0).margin(1e-12));
+  // Two thirds: -60 degrees; at the second key exactly its own rotation, 270 = -90.
+  p = m.at(2).point({1, 0, 0});
+  CHECK(p.x == Approx(0.5));
+  CHECK(p.y == Approx(-std::sqrt(3.0) / 2));
+  p = m.at(3).point({1, 0, 0});
+  CHECK(p.x == Approx(0).margin(1e-12));
+  CHECK(p.y == Approx(-1));
+  // Keys 200 degrees apart about x (10 and 210): the short way is -160 degrees, so halfway
+  // is 10 - 80 = -70 degrees: (0,1,0) -> (0, cos -70, sin -70).
+  a.rotate = axis_angle({1, 0, 0}, 10);
+  b.rotate = axis_angle({1, 0, 0}, 210);
+  b.frame = 2;
+  const KeyframeMotion x({a, b});
+  p = x.at(1).point({0, 1, 0});
+  const double r = -70 * 3.14159265358979323846 / 180;
+  CHECK(p.x == Approx(0).margin(1e-12));
+  CHECK(p.y == Approx(std::cos(r)));
+  CHECK(p.z == Approx(std::sin(r)));
+}

@@ -350,6 +350,85 @@ class TestGrid(ExploreTestCase):
                          sorted((n, w, a) for n in ("2", "8") for w in ("1", "4") for a in ("brute", "bvh")))
 
 
+class TestFrames(ExploreTestCase):
+    def test_constraints_on_per_frame_figures_take_the_worst_frame(self):
+        # Two frames of the moving room, whose per-frame figures differ: a "max" bound is judged
+        # on the largest frame's value, a "min" bound on the smallest's; the objectives are the
+        # frames' means. Both bounds are out of reach, so each row's reason shows the values used.
+        space = self.space({"ius": {"choice": [2, 8]}, "tech": TECH45}, frames="0:1",
+                           constraints={"energy_j.total": {"max": 1e-30}, "parallel_efficiency": {"min": 0.999}})
+        r = self.explore(space, "--grid")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = self.rows()
+        self.assertEqual(len(rows), 2)
+        for row in rows:
+            with open(os.path.join(self.out, "trials", f"{int(row['trial']):05d}", "paper_room", "stats.json")) as f:
+                s = json.load(f)
+            frames = s["frames"]
+            self.assertEqual([fr["frame"] for fr in frames], [0, 1])
+            energy = [fr["energy_j"]["total"] for fr in frames]
+            efficiency = [fr["parallel_efficiency"] for fr in frames]
+            self.assertNotEqual(max(energy), min(energy), "the frames must differ for this test to mean anything")
+            self.assertNotEqual(max(efficiency), min(efficiency))
+            self.assertEqual(row["state"], "infeasible")
+            self.assertEqual(row["reason"], f"energy_j.total {max(energy):.6g} > 1e-30 (max); "
+                                            f"parallel_efficiency {min(efficiency):.6g} < 0.999 (min)")
+            times = [fr["frame_time_s"] for fr in frames]
+            self.assertAlmostEqual(float(row["frame_time_s"]), (times[0] + times[1]) / 2, delta=1e-12 * max(times))
+            self.assertAlmostEqual(float(row["energy_j"]), (energy[0] + energy[1]) / 2, delta=1e-12 * max(energy))
+
+        # Bounds between the two frames' values: the configuration breaks a "max" bound that only
+        # its larger frame exceeds, and a "min" bound that only its smaller frame falls below.
+        row = rows[0]
+        with open(os.path.join(self.out, "trials", f"{int(row['trial']):05d}", "paper_room", "stats.json")) as f:
+            frames = json.load(f)["frames"]
+        energy = sorted(fr["energy_j"]["total"] for fr in frames)
+        efficiency = sorted(fr["parallel_efficiency"] for fr in frames)
+        mid_e, mid_p = (energy[0] + energy[1]) / 2, (efficiency[0] + efficiency[1]) / 2
+        between = self.space({"ius": {"choice": [2, 8]}, "tech": TECH45}, name="between.json", frames="0:1",
+                             constraints={"energy_j.total": {"max": mid_e}, "parallel_efficiency": {"min": mid_p}})
+        out = os.path.join(self.dir, "between")
+        r = self.explore(between, "--grid", out=out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        (again,) = [a for a in self.rows(out=out) if a["ius"] == row["ius"]]
+        self.assertEqual(again["state"], "infeasible")
+        self.assertEqual(again["reason"], f"energy_j.total {energy[1]:.6g} > {mid_e:g} (max); "
+                                          f"parallel_efficiency {efficiency[0]:.6g} < {mid_p:g} (min)")
+
+    def test_an_infeasible_evaluation_keeps_the_hypervolume_reached(self):
+        # Two configurations in grid order (2 units, then 8), an area bound between their areas
+        # that the first meets and the second does not. The hypervolume curve after the second
+        # evaluation is the one after the first (an infeasible point adds nothing and takes
+        # nothing away), and it is the box between the point and a reference point far away.
+        probe = self.space({"ius": {"choice": [2, 8]}, "tech": TECH45}, name="probe.json", constraints={})
+        out = os.path.join(self.dir, "probe")
+        r = self.explore(probe, "--grid", out=out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        area = {}
+        for row in self.rows(out=out):
+            with open(os.path.join(out, "trials", f"{int(row['trial']):05d}", "paper_room", "stats.json")) as f:
+                area[int(row["ius"])] = json.load(f)["area_mm2"]["total"]
+        self.assertNotEqual(area[2], area[8])
+        # (Two units hold half the scene each: their memories may well make them the larger.)
+        kind = "max" if area[2] < area[8] else "min"
+        ref = {"frame_time_s": 1.0, "energy_j": 1.0, "area_mm2": 1000.0}
+        space = self.space({"ius": {"choice": [2, 8]}, "tech": TECH45},
+                           constraints={"area_mm2": {kind: (area[2] + area[8]) / 2}}, reference_point=ref)
+        r = self.explore(space, "--grid")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = sorted(self.rows(), key=lambda row: int(row["trial"]))
+        self.assertEqual([(row["ius"], row["state"]) for row in rows], [("2", "complete"), ("8", "infeasible")])
+        point = [float(rows[0][o]) / ref[o] for o in OBJECTIVES]
+        expected = hypervolume([point], [1.0, 1.0, 1.0])
+        self.assertGreater(expected, 0)
+        curve = self.rows("hypervolume.csv")
+        self.assertEqual(len(curve), 2)
+        self.assertAlmostEqual(float(curve[0]["hypervolume"]), expected, places=12)
+        self.assertAlmostEqual(float(curve[1]["hypervolume"]), expected, places=12)
+        with open(os.path.join(self.out, "result.json")) as f:
+            self.assertAlmostEqual(json.load(f)["hypervolume"], expected, places=12)
+
+
 class TestSearch(ExploreTestCase):
     PARAMS = {"ius": {"int": [1, 16], "log": True}, "iu.model": {"choice": ["serial", "pipelined"]},
               "ray_fifo_depth": {"choice": [0, 64]}, "balance": {"choice": ["paper", "sa_n"]}, "tech": TECH45}

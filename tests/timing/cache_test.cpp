@@ -213,3 +213,20 @@ TEST_CASE("cache: with every line present a visit takes what on-chip memory take
     }
   }
 }
+
+TEST_CASE("cache: an empty way is filled before any line is evicted, under every policy and seed", "[cache]") {
+  // One set of four ways (256 bytes of 64-byte lines): four different lines all fit, so after
+  // they are read once each of them hits, whatever the replacement and its random seed.
+  for (CacheReplacement r : {CacheReplacement::lru, CacheReplacement::fifo, CacheReplacement::random})
+    for (std::uint64_t seed = 0; seed < 16; ++seed) {
+      INFO("policy " << static_cast<int>(r) << " seed " << seed);
+      Cache c(256, 64, 4, r, seed);
+      std::string s;
+      for (std::uint64_t l : {0, 1, 2, 3, 0, 1, 2, 3}) {
+        bool hit = false;
+        c.access(l, hit);
+        s += hit ? 'h' : 'm';
+      }
+      CHECK(s == "mmmmhhhh");
+    }
+}

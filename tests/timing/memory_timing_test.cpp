@@ -1,7 +1,10 @@
 // The object-memory latency model, worked by hand: brute force streams one burst; a BVH's
 // node and leaf fetches are dependent bursts (timing/memory_timing.h).
 #include "timing/memory_timing.h"
+#include "balance/spheres.h"
 #include "ref/bvh_traverse.h"
+#include "scene/load.h"
+#include "timing/gpp_plan.h"
 
 #include <catch2/catch.hpp>
 
@@ -47,4 +50,55 @@ TEST_CASE("memory timing: BVH node and leaf fetches are dependent bursts", "[mem
   // except the first triangle of the leaf (3 cycles) and each node after the first (2).
   c.latency = 0;
   CHECK(hw::stream_stall(c, log, 5) == 2 + 3 + 2);
+}
+
+TEST_CASE("memory timing: a triangle one cycle late stalls the unit one cycle and bytes round up", "[memory]") {
+  hw::StreamCosts c;
+  c.latency = 10;
+  c.bytes_per_cycle = 4;
+  c.triangle_bytes = 48;
+  c.lead = 21;
+  c.triangle = kTri;
+  // The first triangle arrives at 10 + 12 = 22, the unit is free at 21: one cycle stalled;
+  // then 22 -> 44 -> 66 -> 88 with the others (34, 46) in time.
+  const std::uint8_t stages[] = {3, 3, 3};
+  CHECK(hw::stream_stall(c, stages, 3) == 1);
+  c.lead = 22;  // free exactly when it arrives: no stall
+  CHECK(hw::stream_stall(c, stages, 3) == 0);
+  // 48 bytes at 5 per cycle take 10 cycles (9.6 rounded up): the first triangle is there at
+  // 20, the second at 30 (96 / 5 = 19.2: 20 cycles); with the unit free at 19, one stall.
+  c.bytes_per_cycle = 5;
+  c.lead = 19;
+  CHECK(hw::stream_stall(c, stages, 1) == 1);
+  c.lead = 20;
+  CHECK(hw::stream_stall(c, stages, 1) == 0);
+}
+
+TEST_CASE("memory loads: a unit that gave a sphere away loads it again when it comes back", "[memory][balance]") {
+  // The room's first three spheres on two units, on-chip memories (no caches). First
+  // {0, 1} | {2}: both units load everything. Then {0} | {1, 2}: unit 1 writes sphere 1's
+  // bytes; unit 0 writes nothing but now holds only sphere 0. Then {0, 1} | {2} again: unit 0
+  // must write sphere 1's bytes once more (unit 1 writes nothing: it keeps sphere 2).
+  const Scene scene = load_scene(std::string(OPRT_SOURCE_DIR) + "/scenes/paper_room.json");
+  const SceneGeometry<float> g = build_geometry<float>(scene, make_spheres(scene, 1));
+  REQUIRE(g.sphere_count() >= 3);
+  Arch arch;
+  arch.ius = 2;
+  hw::GppPlan<float> plan(scene, g, arch);
+  const auto loads = [&](const std::vector<std::vector<std::uint32_t>>& a) {
+    plan.assign(a);
+    std::vector<std::pair<std::uint32_t, std::uint64_t>> out;
+    for (const hw::MemoryLoad& l : plan.memory_loads()) {
+      CHECK_FALSE(l.cache);
+      out.push_back({l.unit, l.bytes});
+    }
+    return out;
+  };
+  using Loads = std::vector<std::pair<std::uint32_t, std::uint64_t>>;
+  const std::uint64_t b0 = g.memory_bytes(0), b1 = g.memory_bytes(1), b2 = g.memory_bytes(2);
+  CHECK(loads({{0, 1}, {2}}) == Loads{{0, b0 + b1}, {1, b2}});
+  // A unit whose spheres changed is listed even with nothing to write: its new set is what
+  // it holds from now on.
+  CHECK(loads({{0}, {1, 2}}) == Loads{{0, 0}, {1, b1}});
+  CHECK(loads({{0, 1}, {2}}) == Loads{{0, b1}, {1, 0}});
 }
