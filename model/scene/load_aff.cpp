@@ -569,6 +569,7 @@ class AffReader {
   void read_lights(Scene& s, std::set<std::string>& used_anims);
   void set_ambient(Scene& s, const std::vector<int>& mat_remap);
   void warn_tpa_backwards();
+  void note_unused(const std::set<std::string>& used_anims);
 
  private:
   void parse_file(const std::string& path);
@@ -1296,16 +1297,20 @@ Scene AffReader::read(const std::string& path) {
   if (s.materials.empty()) s.materials.push_back(Material{"default", Vec3d(0.7), Vec3d(0.2), 32});
 
   set_ambient(s, mat_remap);
-  for (const auto& [name, a] : anims_)
-    if (!used_anims.count(name)) note("keyframes 'k " + name + "' animate nothing (no 'x " + name + "')");
-
-  warn_tpa_backwards();
-  if (flat_normal_triangles_)
-    note(std::to_string(flat_normal_triangles_) + " triangles with a zero-length vertex normal: shaded flat");
+  note_unused(used_anims);
   s.notes = notes_;
   s.warnings = warnings_;
   validate_scene(s);
   return s;
+}
+
+// What the file gave that nothing uses, or that is read as BART reads it.
+void AffReader::note_unused(const std::set<std::string>& used_anims) {
+  for (const auto& [name, a] : anims_)
+    if (!used_anims.count(name)) note("keyframes 'k " + name + "' animate nothing (no 'x " + name + "')");
+  warn_tpa_backwards();
+  if (flat_normal_triangles_)
+    note(std::to_string(flat_normal_triangles_) + " triangles with a zero-length vertex normal: shaded flat");
 }
 
 // The view, animated by the keyframes named "camera" if there are any.
