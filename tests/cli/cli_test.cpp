@@ -139,10 +139,11 @@ TEST_CASE("cli: render --kernel watertight equals reference --kernel watertight 
   CHECK(refj["triangle_exit_stages"] == nlohmann::json::array({"uv", "w", "det", "t"}));
   // The reference's counters are written by the render's code: the same keys, node tests
   // included (none: the reference has no tree over its spheres).
+  const auto at_stats = stats(d / "at");
   for (const char* kind : {"primary", "shadow"}) {
     const auto& w = refj["frames"][0]["work"][kind];
     CHECK(w["node_tests"] == 0);
-    for (const auto& [key, value] : stats(d / "at")["frames"][0]["ius"][0]["work"][kind].items()) CHECK(w.contains(key));
+    for (const auto& [key, value] : at_stats["frames"][0]["ius"][0]["work"][kind].items()) CHECK(w.contains(key));
   }
   struct Costs {
     std::uint64_t transform, stage[4];
