@@ -8,8 +8,6 @@
 #include "hw/watchdog.h"
 
 #include <cstdint>
-#include "timing/ring.h"
-
 #include <deque>
 #include <vector>
 
@@ -75,16 +73,16 @@ class RayFifo : public sc_core::sc_module, public RayFifoIf, public Waiter {
   }
 
   int depth_;
-  Ring<RayEntry> queue_;
+  std::deque<RayEntry> queue_;
   std::uint64_t pushes_ = 0, pops_ = 0;
   // Times of the pops that may still free a slot for a later push (at most `depth`, and no
   // more than the rays actually queued: a deep FIFO reserves nothing), the first being pop
   // number pop_time_first_.
-  Ring<sc_core::sc_time> pop_time_;
+  std::deque<sc_core::sc_time> pop_time_;
   std::uint64_t pop_time_first_ = 0;
   std::uint64_t pushes_at_reset_ = 0, pops_at_reset_ = 0;
-  Ring<std::pair<sc_core::sc_time, std::uint64_t>> unsettled_;  // pushes (time, pushes up to it) not yet counted
-  Ring<sc_core::sc_time> late_pops_;  // times of pops done, later than the pushes counted so far
+  std::deque<std::pair<sc_core::sc_time, std::uint64_t>> unsettled_;  // pushes (time, pushes up to it) not yet counted
+  std::deque<sc_core::sc_time> late_pops_;  // times of pops done, later than the pushes counted so far
   std::size_t peak_ = 0;
   void settle(const sc_core::sc_time* before);
   int writes_waiting_ = 0;
