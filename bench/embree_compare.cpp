@@ -71,13 +71,18 @@ RaySet make_rays(const Scene& scene, const SceneGeometry<float>& g, const FrameS
   const Shader<float> shader(scene, f);
   const IuRegisters<float> regs = every_sphere(g, f);
   RaySet rs;
+  std::vector<SpawnedRay<float>> spawned;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       const Ray<float> ray = camera.ray<float>(x, y);
       const HitRecord<float> hit = trace_nearest(g, regs, ray, kIgnoreWork);
       rs.primary.push_back(ray);
       rs.primary_hit.push_back(hit);
-      if (hit.valid()) shader.prepare(ray, hit, rs.shadow);
+      if (!hit.valid()) continue;
+      spawned.clear();
+      shader.shade(ray, hit, 0, false, spawned);
+      for (const SpawnedRay<float>& sr : spawned)
+        if (sr.kind == RayKind::shadow) rs.shadow.push_back(sr.ray);
     }
   return rs;
 }

@@ -18,6 +18,7 @@ struct CommonOptions {
   std::string accel = "brute";
   std::string kernel = "moller";
   int subdivide = 1;
+  std::optional<int> depth;  // --depth: Whitted's recursion bound (else the scene's)
   std::string split;  // "count" | "extent"; "": the format's default (balance/spheres.h)
   std::optional<std::size_t> max_object_triangles;
   bool schedules = false;

@@ -12,8 +12,8 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   fs.frame = frame;
   fs.wall_s = wall_s;
   fs.makespan = run.makespan;
-  fs.rays[0] = run.rays[0];
-  fs.rays[1] = run.rays[1];
+  for (int k = 0; k < kRayKinds; ++k) fs.rays[k] = run.rays[k];
+  fs.ray_figures = run.ray_figures;
   fs.bus_busy = run.bus_busy;
   fs.bus_bytes = run.bus_bytes;
   fs.bus_transfers = run.bus_transfers;
@@ -82,8 +82,8 @@ void finish_frame(RenderJob& job, StatsWriter* stats, const FrameStats& fs, Fram
     if (job.progress) std::fprintf(stderr, "\r\033[K");
     std::printf("frame %4d  makespan %llu cycles  efficiency %.3f  %llu rays  %.2f s  (%.3g rays/s)\n", fs.frame,
                 static_cast<unsigned long long>(fs.makespan), fs.efficiency(),
-                static_cast<unsigned long long>(fs.rays[0] + fs.rays[1]), fs.wall_s,
-                (fs.rays[0] + fs.rays[1]) / std::max(fs.wall_s, 1e-9));
+                static_cast<unsigned long long>(fs.total_rays()), fs.wall_s,
+                static_cast<double>(fs.total_rays()) / std::max(fs.wall_s, 1e-9));
     std::fflush(stdout);
   }
   if (job.keep_results) {

@@ -181,6 +181,9 @@ void CommandLine::add_reference() {
   ref->add_option("--precision", opt.precision, "float | double")->check(CLI::IsMember({"float", "double"}));
   ref->add_option("--kernel", opt.kernel, "moller | watertight")->check(CLI::IsMember({"moller", "watertight"}));
   ref->add_option("--frames", opt.frames, "N or A:B (inclusive); default: every frame");
+  numbers.count(ref, "--depth", 0, oprt::kMaxDepth,
+                "bounces of reflection and refraction rays (default: the scene's, else 5; 0: primary and shadow only)",
+                [this](std::uint64_t n) { opt.depth = static_cast<int>(n); });
   ref->add_option("--resolution", opt.resolution, "WxH; default: the scene's");
   ref->add_option("--out", opt.out, "output directory");
   add_subdivide(ref, opt.subdivide);
@@ -204,6 +207,10 @@ void CommandLine::add_render() {
   numbers.count(render, "--ius", 1, 65536, "number of intersection units",
                 [this](std::uint64_t n) { ro.ius = static_cast<int>(n); });
   render->add_option("--frames", ro.frames, "N or A:B (inclusive); default: every frame");
+  numbers.count(render, "--depth", 0, oprt::kMaxDepth,
+                "bounces of reflection and refraction rays (default: the architecture's gpp.depth, else the scene's, "
+                "else 5; 0: primary and shadow rays only)",
+                [this](std::uint64_t n) { ro.depth = static_cast<int>(n); });
   render->add_option("--level", ro.level, "at | lt | analytic")->check(CLI::IsMember({"at", "lt", "analytic"}));
   render->add_option("--quantum", ro.quantum, "temporal-decoupling quantum for lt, e.g. 1us");
   render->add_option("--balance", ro.balance, "paper | round_robin | sa_n | spatial | feedback | view")

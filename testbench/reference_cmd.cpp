@@ -66,7 +66,7 @@ int reference(const CommonOptions& o, const Scene& scene, const OutputPlan& outp
     if (deforming) update_deforming(g, scene, f);
     FrameResult r;
     try {
-      r = render_reference(scene, g, f, width, height);
+      r = render_reference(scene, g, f, width, height, o.depth.value_or(-1));
     } catch (const Interrupted& e) {
       log.write(stats);
       throw Interrupted(e.signal(), frames_completed(frames.first, frames.last, completed));
@@ -74,26 +74,35 @@ int reference(const CommonOptions& o, const Scene& scene, const OutputPlan& outp
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::string exr = (std::filesystem::path(o.out) / frame_name(f, "exr")).string();
     write_frame_files(exr, (std::filesystem::path(o.out) / frame_name(f, "png")).string(), r.image);
-    const std::uint64_t rays = r.work.rays[0] + r.work.rays[1];
-    nlohmann::json per_object = nlohmann::json::array();
+    std::uint64_t rays = 0;
+    nlohmann::json rays_json, work, per_object = nlohmann::json::array();
+    std::string kinds_text;
+    for (int k = 0; k < kRayKinds; ++k) {
+      rays += r.work.rays[k];
+      rays_json[kRayKindNames[k]] = r.work.rays[k];
+      work[kRayKindNames[k]] = work_json(r.work.total(static_cast<RayKind>(k)));
+      if (r.work.rays[k] || k < 2)
+        kinds_text += (k ? ", " : "") + std::to_string(r.work.rays[k]) + " " + kRayKindNames[k];
+    }
     for (std::size_t obj = 0; obj < scene.objects.size(); ++obj) {
-      WorkCounts kinds[kRayKinds];
-      for (int k = 0; k < kRayKinds; ++k)
+      nlohmann::json o = {{"object", obj}, {"name", scene.objects[obj].name}};
+      for (int k = 0; k < kRayKinds; ++k) {
+        WorkCounts w;
         for (std::uint32_t s = 0; s < g.sphere_count(); ++s)
-          if (g.object[s] == obj) kinds[k] += r.work.per_sphere[k][s];
-      per_object.push_back({{"object", obj}, {"name", scene.objects[obj].name},
-                            {"primary", work_json(kinds[0])}, {"shadow", work_json(kinds[1])}});
+          if (g.object[s] == obj) w += r.work.per_sphere[k][s];
+        o[kRayKindNames[k]] = work_json(w);
+      }
+      per_object.push_back(std::move(o));
     }
     log.add({{"frame", f},
-                               {"wall_s", wall},
-                               {"rays", {{"primary", r.work.rays[0]}, {"shadow", r.work.rays[1]}}},
-                               {"rays_per_s", rays / wall},
-                               {"work", {{"primary", work_json(r.work.total(RayKind::primary))},
-                                         {"shadow", work_json(r.work.total(RayKind::shadow))}}},
-                               {"objects", per_object}});
-    std::printf("frame %4d  %.3f s  %llu rays (%llu primary, %llu shadow)  %.3g M triangle tests%s  -> %s\n", f,
-                wall, (unsigned long long)rays, (unsigned long long)r.work.rays[0],
-                (unsigned long long)r.work.rays[1], r.work.total().tri_tests() / 1e6,
+             {"wall_s", wall},
+             {"depth", o.depth.value_or(scene.depth)},
+             {"rays", rays_json},
+             {"rays_per_s", rays / wall},
+             {"work", work},
+             {"objects", per_object}});
+    std::printf("frame %4d  %.3f s  %llu rays (%s)  %.3g M triangle tests%s  -> %s\n", f, wall,
+                (unsigned long long)rays, kinds_text.c_str(), r.work.total().tri_tests() / 1e6,
                 g.has_bvh() ? ("  " + std::to_string(r.work.total().box_tests) + " box tests").c_str() : "",
                 exr.c_str());
     std::fflush(stdout);

@@ -37,6 +37,7 @@ Arch resolve_arch(const RenderOptions& o) {
   if (o.locality) a.locality = parse_locality(*o.locality);
   if (o.replicate) a.replicate = replicate_named(*o.replicate, "--replicate");
   if (o.subdivide) a.subdivide = *o.subdivide;
+  if (o.depth) a.gpp.depth = *o.depth;
   if (!o.split.empty()) a.split = o.split;
   if (o.accel) a.accel = *o.accel;
   if (o.top) a.top = *o.top;

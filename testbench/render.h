@@ -19,7 +19,7 @@ struct RenderOptions {
   std::optional<std::string> trace_frames, trace_window, trace_units, trace_signals;  // what the traces hold
   std::optional<std::size_t> trace_buffer;  // changes the waveform writer may hold
   std::optional<std::string> max_memory;    // --max-memory: a byte count
-  std::optional<int> ius, subdivide;
+  std::optional<int> ius, subdivide, depth;
   std::optional<std::string> level, quantum, balance, locality, replicate, accel, top, route, kernel, precision, sram, iu;
   std::string tech;  // technology table; empty: the built-in 65 nm one
   bool progress = true;  // on a terminal only

@@ -77,7 +77,7 @@ Cost RunCost::frame(const FrameStats& fs) {
   FrameActivity act;
   act.units.resize(fs.units.size());
   act.bus_bytes = fs.bus_bytes;
-  if (arch_.routed()) act.router_tests = (fs.rays[0] + fs.rays[1]) * fs.route.bounds;
+  if (arch_.routed()) act.router_tests = fs.total_rays() * fs.route.bounds;
   act.frame_time_s = fs.frame_time_s;
   for (std::size_t u = 0; u < fs.units.size() && u < design_.units.size(); ++u) {
     const UnitFrameStats& s = fs.units[u];

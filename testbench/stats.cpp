@@ -78,6 +78,42 @@ nlohmann::json stages_json(const hw::PipelineStats& p, const hw::PipelineConfig&
 }
 }  // namespace
 
+namespace {
+// Per ray kind: primary and shadow always, the secondary kinds when the frame has any (so
+// that a frame without them reads as it did before they existed).
+template <typename F>
+nlohmann::json per_kind(const FrameStats& f, F&& value) {
+  nlohmann::json j;
+  for (int k = 0; k < kRayKinds; ++k)
+    if (k < 2 || f.rays[k]) j[kRayKindNames[k]] = value(k);
+  return j;
+}
+
+// What each kind of ray asked of the engine (timing/ray_figures.h), per ray, and the rays
+// per depth.
+nlohmann::json ray_kinds_json(const FrameStats& f) {
+  const hw::RayFigures& r = f.ray_figures;
+  const auto per = [](std::uint64_t x, std::uint64_t n) { return n ? static_cast<double>(x) / n : 0.0; };
+  nlohmann::json j = per_kind(f, [&](int k) {
+    const hw::KindFigures& kf = r.kind[k];
+    return nlohmann::json{{"rays", kf.rays},
+                          {"fanout_mean", per(kf.unit_writes, kf.rays)},
+                          {"ray_bytes_per_ray", per(kf.ray_bytes, kf.rays)},
+                          {"answer_bytes_per_ray", per(kf.answer_bytes, kf.rays)},
+                          {"latency_cycles_mean", per(kf.latency, kf.rays)},
+                          {"spawn_delay_cycles_mean", per(kf.spawn_delay, kf.rays)}};
+  });
+  nlohmann::json depths = nlohmann::json::array();
+  for (std::size_t d = 0; d < r.by_depth.size(); ++d) {
+    nlohmann::json row = {{"depth", d}};
+    for (int k = 0; k < kRayKinds; ++k)
+      if (k < 2 || f.rays[k]) row[kRayKindNames[k]] = r.by_depth[d][k];
+    depths.push_back(row);
+  }
+  return {{"kinds", j}, {"by_depth", depths}, {"gpp_starved_cycles", r.starved}};
+}
+}  // namespace
+
 nlohmann::json to_json(const FrameStats& f) {
   nlohmann::json units = nlohmann::json::array();
   for (const UnitFrameStats& u : f.units) {
@@ -102,10 +138,10 @@ nlohmann::json to_json(const FrameStats& f) {
                                  {"stall_cycles", u.memory.stall}}},
                      {"memory_load_bytes", u.memory_load_bytes},
                      {"fifo", {{"pushes", u.fifo_pushes}, {"pops", u.fifo_pops}, {"peak", u.fifo_peak}}},
-                     {"work", {{"primary", work_json(u.work[0])}, {"shadow", work_json(u.work[1])}}}});
+                     {"work", per_kind(f, [&](int k) { return work_json(u.work[k]); })}});
     if (u.pipeline && f.pipeline) units.back()["pipeline"] = stages_json(*u.pipeline, *f.pipeline, f.makespan);
   }
-  const double rays = static_cast<double>(f.rays[0] + f.rays[1]);
+  const double rays = static_cast<double>(f.total_rays());
   char hash[32];
   std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(f.image_hash));
   nlohmann::json j = {{"frame", f.frame},
@@ -114,7 +150,7 @@ nlohmann::json to_json(const FrameStats& f) {
           {"idle_fraction", f.idle_fraction()},
           {"busy_cycles", f.busy()},
           {"wall_s", f.wall_s},
-          {"rays", {{"primary", f.rays[0]}, {"shadow", f.rays[1]}}},
+          {"rays", per_kind(f, [&](int k) { return f.rays[k]; })},
           {"rays_per_wall_s", f.wall_s > 0 ? rays / f.wall_s : 0},
           {"bus", {{"busy_cycles", f.bus_busy}, {"bytes", f.bus_bytes}, {"transfers", f.bus_transfers}}},
           {"memory_load_bytes", f.memory_load_bytes},
@@ -132,6 +168,7 @@ nlohmann::json to_json(const FrameStats& f) {
           {"sphere_entries", f.sphere_entries},
           {"ius", units}};
   j["frame_time_s"] = f.frame_time_s;
+  j["ray_kinds"] = ray_kinds_json(f);
   if (f.replicating) {
     nlohmann::json copies = nlohmann::json::array();
     for (const Replica& r : f.replicas) copies.push_back({{"sphere", r.sphere}, {"units", r.units}});
@@ -175,7 +212,7 @@ void StatsWriter::add(const FrameStats& f) {
             "box,node,frame_time_s,energy_j,area_mm2,fanout_mean,fanout_max,fanout_histogram,route_cycles,route_skipped,"
             "bus_bytes_per_ray\n";
   }
-  const std::uint64_t rays = f.rays[0] + f.rays[1];
+  const std::uint64_t rays = f.total_rays();
   for (const UnitFrameStats& u : f.units) {
     csv_ << f.frame << ',' << u.id << ',' << u.spheres.size() << ',' << u.primitives << ',' << u.rays << ','
          << u.cycles.sphere << ',' << u.cycles.transform << ',' << u.cycles.primitive << ',' << u.idle << ','
@@ -201,7 +238,7 @@ void StatsWriter::add(const FrameStats& f) {
   idle_ += f.idle_fraction();
   makespan_ += f.makespan;
   busy_ += f.busy();
-  rays_ += f.rays[0] + f.rays[1];
+  rays_ += f.total_rays();
   load_bytes_ += f.memory_load_bytes;
   load_cycles_ += f.memory_load_cycles;
   refit_cycles_ += f.refit_cycles;

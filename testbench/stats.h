@@ -60,6 +60,7 @@ struct FrameStats {
   std::uint64_t memory_load_cycles = 0;  // bus cycles of that move, inside the makespan (0 on an ideal bus)
   std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;  // --top bvh: the GPP's work on the units' trees
   hw::RouteRun route;  // --route: the router's cycles, spared (ray, unit) pairs, fan-out histogram
+  hw::RayFigures ray_figures;  // per ray kind and depth: fan-out, bytes, latency (timing/ray_figures.h)
   // --replicate: the copies (sphere, its units) and the bytes the copies beyond the first take.
   bool replicating = false;
   std::vector<Replica> replicas;
@@ -74,6 +75,11 @@ struct FrameStats {
   std::optional<hw::PipelineConfig> pipeline;
 
   std::uint64_t busy() const;
+  std::uint64_t total_rays() const {
+    std::uint64_t n = 0;
+    for (std::uint64_t r : rays) n += r;
+    return n;
+  }
   double fanout_mean() const;
   std::uint64_t fanout_max() const;
   // Sum of busy cycles / (units x makespan).

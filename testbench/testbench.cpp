@@ -187,8 +187,7 @@ class Testbench : public sc_module {
     const hw::GppStats& g = engine_->gpp().stats();
     hw::FrameRun run;
     run.makespan = static_cast<std::uint64_t>((g.end - g.start) / cycle + 0.5);
-    run.rays[0] = g.rays[0];
-    run.rays[1] = g.rays[1];
+    for (int k = 0; k < kRayKinds; ++k) run.rays[k] = g.rays[k];
     run.bus_busy = engine_->bus().busy_cycles();
     run.bus_bytes = engine_->bus().bytes();
     run.bus_transfers = engine_->bus().transfers();
@@ -200,12 +199,14 @@ class Testbench : public sc_module {
     const auto& f = engine_->functional();
     run.route.cycles = g.route_cycles;
     hw::route_figures(f, engine_->units(), run.route);
+    hw::ray_figures(f, job_.arch, engine_->units(), g.waiting,
+                    [&](const sc_time& t) { return static_cast<std::uint64_t>(t / cycle + 0.5); }, run.ray_figures);
     for (std::size_t u = 0; u < engine_->units(); ++u) {
       const hw::UnitStats& s = engine_->unit(u).stats();
       const hw::ObjectMemory& m = engine_->memory(u);
       hw::RayFifo& fifo = engine_->fifo(u);
       hw::UnitTimed t;
-      t.rays = s.rays[0] + s.rays[1];
+      for (int k = 0; k < kRayKinds; ++k) t.rays += s.rays[k];
       t.bus_stall = s.bus_stall;
       t.cache = m.is_cache();
       t.memory = m.cache_counts();

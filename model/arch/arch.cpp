@@ -244,7 +244,8 @@ Arch arch_from_json(const nlohmann::json& doc, const std::string& file) {
     check_sram(a, file, "/memory/sram_bytes");
   }
   if (auto g = root.find("gpp")) {
-    g->only_keys({"cycles_per_ray", "cycles_per_hit", "cycles_per_node"});
+    g->only_keys({"cycles_per_ray", "cycles_per_hit", "cycles_per_node", "depth"});
+    a.gpp.depth = static_cast<int>(g->integer_or("depth", -1, 0, kMaxDepth));
     a.gpp.cycles_per_ray = static_cast<int>(g->integer_or("cycles_per_ray", 0, 0, 1 << 20));
     a.gpp.cycles_per_hit = static_cast<int>(g->integer_or("cycles_per_hit", 0, 0, 1 << 20));
     a.gpp.cycles_per_node = static_cast<int>(g->integer_or("cycles_per_node", a.gpp.cycles_per_node, 0, 1 << 20));

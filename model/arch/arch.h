@@ -86,7 +86,8 @@ struct Arch {
   } memory;
   struct {
     int cycles_per_ray = 0;  // generating a ray (primary or shadow)
-    int cycles_per_hit = 0;  // shading a primary ray's result
+    int cycles_per_hit = 0;  // shading a nearest hit (primary, reflection, refraction)
+    int depth = -1;          // Whitted's recursion bound (Scene::depth); -1: the scene's
     int cycles_per_node = 20;  // --top bvh: refitting one node of a unit's tree, every frame
   } gpp;
   IuConfig iu;

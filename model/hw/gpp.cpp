@@ -32,6 +32,7 @@ Gpp<T>::Gpp(const sc_module_name& name, const Scene& scene, const SceneGeometry<
   if (vcd_) {
     vcd_in_flight_ = vcd_->add(this->name(), "rays_in_flight", 32);
     vcd_frame_ = vcd_->add(this->name(), "frame", 32);
+    vcd_kind_ = vcd_->add(this->name(), "ray_kind", 2);  // of the ray last issued: RayKind's code
     if (arch.top_tree() || arch.routed()) vcd_refit_ = vcd_->add(this->name(), "refit", 1);
     if (arch.routed()) {
       vcd_routing_ = vcd_->add(this->name(), "routing", 1);
@@ -158,7 +159,11 @@ void Gpp<T>::issue(std::uint32_t id) {
 // waveform and the timeline.
 template <typename T>
 void Gpp<T>::compute(GppPhase phase, std::uint64_t cycles) {
-  static constexpr const char* names[] = {"refit", "issue", "route", "shade"};
+  // The timeline names the GPP's work on a ray by the ray's kind.
+  static constexpr const char* issue[kRayKinds] = {"issue primary", "issue shadow", "issue reflection",
+                                                   "issue refraction"};
+  static constexpr const char* shade[kRayKinds] = {"shade primary", "shade shadow", "shade reflection",
+                                                   "shade refraction"};
   const sc_time start = clock_.now();
   const int signal = phase == GppPhase::refit ? vcd_refit_ : phase == GppPhase::route ? vcd_routing_ : -1;
   if (vcd_ && signal >= 0) vcd_->change(signal, start.value(), 1);
@@ -170,14 +175,19 @@ void Gpp<T>::compute(GppPhase phase, std::uint64_t cycles) {
   else if (phase == GppPhase::route && router_track_ >= 0)
     timeline_->slice(router_track_, "route", start.value(), clock_.now().value(),
                      {{"ray", current_ray_}, {"units", work_->wave(current_ray_).size(units_)}});
-  else if (phase != GppPhase::refit && timeline_)
-    timeline_->slice(track_, names[static_cast<int>(phase)], start.value(), clock_.now().value(), {{"ray", current_ray_}});
+  else if (phase != GppPhase::refit && timeline_) {
+    const RayRecord<T>& r = frame_.rays[current_ray_];
+    const int k = static_cast<int>(r.kind);
+    timeline_->slice(track_, phase == GppPhase::shade ? shade[k] : phase == GppPhase::route ? "route" : issue[k],
+                     start.value(), clock_.now().value(), {{"ray", current_ray_}, {"depth", r.depth}});
+  }
 }
 
 template <typename T>
 void Gpp<T>::generated(std::uint32_t id) {
   ++issued_;
   ++stats_.rays[static_cast<int>(frame_.rays[id].kind)];
+  if (vcd_ && vcd_kind_ >= 0) vcd_->change(vcd_kind_, clock_.now().value(), static_cast<std::uint64_t>(frame_.rays[id].kind));
   trace_in_flight();
 }
 
@@ -256,28 +266,25 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
   const RayRecord<T>& rec = frame_.rays[id];
   const Pending& pr = pending_[id];
   FrameImage& img = *cmd.image;
+  const std::uint32_t p = rec.pixel;
   ++retired_;
   if (rec.kind == RayKind::primary) {
     if (progress_ && (++primaries_retired_ & 4095) == 0) progress_(primaries_retired_, pixel_count_);
-    const std::uint32_t p = rec.pixel;
-    // The merged answers must be the traced nearest hit: the units' answers are the
-    // functional work's, so anything else is a fault in the model's plumbing.
-    if (pr.hit.valid() != (frame_.image.object[p] != kNone) ||
-        (pr.hit.valid() && (pr.hit.object != frame_.image.object[p] || pr.hit.prim != frame_.image.prim[p] ||
-                            static_cast<float>(pr.hit.t) != frame_.image.z[p])))
-      SC_REPORT_FATAL(name(), ("ray " + std::to_string(id) + ": the units' answers disagree with the functional trace").c_str());
-    if (!pr.hit.valid()) {
-      finish_pixel(p, img);
-    } else {  // shaded (gpp.cycles_per_hit) by the recipe's retire_ray
+    rays_left_[p] = frame_.pixel_rays[p + 1] - frame_.pixel_rays[p];
+    if (pr.hit.valid()) {
       img.z[p] = static_cast<float>(pr.hit.t);
       img.object[p] = pr.hit.object;
       img.prim[p] = pr.hit.prim;
-      shadow_left_[p] = frame_.pixel_rays[p + 1] - (id + 1);  // GppWork queued them
-      if (!shadow_left_[p]) finish_pixel(p, img);
     }
-  } else if (--shadow_left_[rec.pixel] == 0) {
-    finish_pixel(rec.pixel, img);
   }
+  // The merged answers must be the traced nearest hit: the units' answers are the
+  // functional work's, so anything else is a fault in the model's plumbing. (A hit is shaded,
+  // gpp.cycles_per_hit, by the recipe's retire_ray, and the rays it spawns are queued.)
+  if (seeks_nearest(rec.kind) &&
+      (pr.hit.valid() != rec.hit() ||
+       (pr.hit.valid() && (pr.hit.object != rec.object || pr.hit.prim != rec.prim || static_cast<float>(pr.hit.t) != rec.t))))
+    SC_REPORT_FATAL(name(), ("ray " + std::to_string(id) + ": the units' answers disagree with the functional trace").c_str());
+  if (--rays_left_[p] == 0) finish_pixel(p, img);  // every ray of the pixel's tree is in
   trace_in_flight();
 }
 
@@ -333,7 +340,7 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   const std::size_t pixels = static_cast<std::size_t>(cmd.width) * cmd.height;
   pending_.assign(frame_.ray_count(), Pending{});
   completed_at_.assign(frame_.ray_count(), SC_ZERO_TIME);
-  shadow_left_.assign(pixels, 0);
+  rays_left_.assign(pixels, 0);
   work_ = std::make_unique<GppWork<T, sc_time>>(frame_);
   issued_ = retired_ = 0;
   primaries_retired_ = 0;
@@ -364,13 +371,14 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
       if (r.next_wave) clock_.advance_to(completed_at_[r.ray]);  // the wave is in; the next one is queued
       else retire(r.ray, cmd);
     } else if (next == GppWork<T, sc_time>::Next::issue) {
-      issue(work_->take_ray());
+      issue(work_->take_ray(clock_.now()));
     } else {
       const sc_time due = std::min(work_->due(never), ready);
       wait_for_space_or_answers(has_ray && !room, due == never ? nullptr : &due);
     }
   }
   stats_.end = clock_.now();
+  stats_.waiting = work_->waiting();
   if (timeline_)
     timeline_->slice(track_, "frame", stats_.start.value(), stats_.end.value(),
                      {{"frame", static_cast<std::uint64_t>(cmd.frame)}, {"rays", issued_}});

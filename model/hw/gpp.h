@@ -49,6 +49,7 @@ struct GppStats {
   std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;
   std::uint64_t route_cycles = 0;  // --route: the router's, on the GPP's timeline
   std::vector<std::uint64_t> unit_memory_load_bytes;  // per unit: its share of memory_load_bytes
+  Waiting<sc_core::sc_time> waiting;  // what rays waiting for their parents' answers cost (gpp_plan.h)
 };
 
 template <typename T>
@@ -117,7 +118,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
   sc_core::sc_event request_, done_, answered_, abandoned_;
   sc_core::sc_time wake_before_;  // while waiting for answers: a completion before this wakes the GPP
   std::vector<Pending> pending_;
-  std::vector<std::uint32_t> shadow_left_;  // per pixel: shadow rays not yet answered
+  std::vector<std::uint32_t> rays_left_;  // per pixel: rays of its tree not yet retired
   std::unique_ptr<GppWork<T, sc_core::sc_time>> work_;
   std::vector<sc_core::sc_time> completed_at_;  // per ray: when its last answer arrived
   std::uint64_t issued_ = 0, retired_ = 0;
@@ -127,7 +128,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
   std::function<void(std::uint64_t, std::uint64_t)> progress_;
   std::uint64_t primaries_retired_ = 0, pixel_count_ = 0;
   VcdWriter* vcd_;
-  int vcd_in_flight_ = -1, vcd_frame_ = -1, vcd_refit_ = -1, vcd_routing_ = -1, vcd_fanout_ = -1;
+  int vcd_in_flight_ = -1, vcd_frame_ = -1, vcd_kind_ = -1, vcd_refit_ = -1, vcd_routing_ = -1, vcd_fanout_ = -1;
   TimelineWriter* timeline_;  // null when not traced
   int track_ = -1, router_track_ = -1;
   std::uint32_t current_ray_ = 0;  // the ray being issued or retired (the timeline names it)

@@ -46,7 +46,7 @@ void IntersectionUnit<T>::send_answer(std::uint32_t ray, const UnitRayWork* w, s
   a.occluded = answer.occluded;
   a.hit = answer.hit;
   unsigned char* data = answer_bytes_.data(Bytes<T>::nearest_answer);
-  const unsigned bytes = a.write(data, frame_.rays[ray].kind == RayKind::primary);
+  const unsigned bytes = a.write(data, seeks_nearest(frame_.rays[ray].kind));
   prepare(answer_, tlm::TLM_WRITE_COMMAND, addr::gpp_hits, data, bytes);
   bus->b_transport(answer_, delay);
   if (answer_.is_response_error()) SC_REPORT_FATAL(name(), "answer to the GPP failed");

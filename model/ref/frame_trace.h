@@ -1,15 +1,19 @@
 // The functional work of one pixel, as the engine does it: the primary ray goes to every
 // unit (trace_nearest over each unit's registers), the GPP keeps the nearest of their
-// answers and shades it, each shadow ray goes to every unit (trace_any), and the pixel's
-// colour follows. Nothing here depends on time, so a frame's pixels can be traced in any
+// answers and shades it (ref/shading.h), which spawns a shadow ray per light and, where the
+// material reflects or transmits, a reflection and a refraction ray; each shadow ray goes to
+// every unit (trace_any), each secondary ray as the primary ray did, its hit shaded in turn,
+// to the scene's depth; the pixel's colour follows from the answers. A pixel's rays are
+// traced breadth first, in the order they are spawned: a ray's id comes after its parent's,
+// and the rays one hit spawns are consecutive. Nothing here depends on time, so a frame's pixels can be traced in any
 // order and on any number of threads, ahead of the timed model that then times this work
 // (gem5's atomic/timing split). The reference renderer is the case of one unit holding
 // every sphere.
 //
-// The recorder sees, in order, for each ray: begin_ray(ray, kind, pixel, slot), then per
+// The recorder sees, in order, for each ray: begin_ray(ray, kind, pixel, depth), then per
 // unit the ray goes to begin_unit(u), visit(SphereVisit) per sphere tested, end_unit(u,
 // answer), wave_end() after the last unit of each wave (ref/route.h), skip(u) for a unit
-// that `ordered` routing spared; then end_ray(). It owns what is kept (work tables, the
+// that `ordered` routing spared; then end_ray(RayEnd). It owns what is kept (work tables, the
 // units' answers for the timed model). Broadcast: every unit, one wave.
 #pragma once
 
@@ -29,6 +33,15 @@ struct UnitAnswer {
   bool occluded = false;
 };
 
+// What the recorder learns when a ray is done: a nearest-hit ray's hit (invalid for a miss
+// and for shadow rays), and the rays that hit spawned, at ids [id + first_child, id +
+// first_child + children) (first_child 0: none).
+template <typename T>
+struct RayEnd {
+  HitRecord<T> hit;
+  std::uint32_t first_child = 0, children = 0;
+};
+
 // What a frame's pixels share: read-only, safe to use from many threads at once.
 template <typename T>
 struct FrameTraceInputs {
@@ -40,11 +53,21 @@ struct FrameTraceInputs {
   const RouteTable<T>* route = nullptr;  // null or broadcast: every unit
 };
 
+// One ray of a pixel's tree (trace_pixel), with what its answer adds up to.
+template <typename T>
+struct PixelRay {
+  SpawnedRay<T> spawned;  // the ray, its kind, its weight in its parent's colour, its medium
+  std::uint8_t depth = 0;
+  bool answer = false;    // shadow: occluded; else: it hit
+  std::uint32_t first_child = 0, children = 0;  // indices in the pixel's rays
+  Vec3d colour{0};        // a nearest-hit ray's colour, once its children have theirs
+};
+
 // Per-thread scratch, reused from pixel to pixel.
 template <typename T>
 struct PixelScratch {
-  std::vector<Ray<T>> shadow;
-  std::vector<std::uint8_t> occluded;
+  std::vector<PixelRay<T>> rays;
+  std::vector<SpawnedRay<T>> spawned;
   StageLog log;
   std::vector<typename RouteTable<T>::Entered> entered;
 };
@@ -86,15 +109,12 @@ void route_ray(const FrameTraceInputs<T>& in, const Ray<T>& ray, std::uint32_t k
   for (; i < n; ++i) rec.skip(scratch.entered[i].unit);  // after a shadow ray's occluder
 }
 
+// Ray `ray` through the units the route chooses: the nearest of their hits.
 template <typename T, typename Recorder>
-void trace_pixel(const FrameTraceInputs<T>& in, int x, int y, FrameImage& image, Recorder& rec,
-                 PixelScratch<T>& scratch) {
-  const std::size_t pixel = static_cast<std::size_t>(y) * image.width + x;
+HitRecord<T> trace_nearest_ray(const FrameTraceInputs<T>& in, const Ray<T>& ray, std::uint32_t key, Recorder& rec,
+                               PixelScratch<T>& scratch) {
   StageLog* log = in.log_stages ? &scratch.log : nullptr;
   auto visit = [&rec](const SphereVisit& v) { rec.visit(v); };
-  const Ray<T> ray = in.camera.template ray<T>(x, y);
-  const std::uint32_t key = share_key(x, y);  // which copy of a replicated sphere takes the pixel's rays
-  rec.begin_ray(ray, RayKind::primary, pixel, 0);
   HitRecord<T> best;
   route_ray(
       in, ray, key, rec, scratch,
@@ -107,34 +127,91 @@ void trace_pixel(const FrameTraceInputs<T>& in, int x, int y, FrameImage& image,
         return false;
       },
       [&] { return best.valid() ? best.t : ray.tmax; });
-  rec.end_ray();
-  Vec3d colour = in.shader.background();
-  if (best.valid()) {
-    scratch.shadow.clear();
-    const ShadeState<T> state = in.shader.prepare(ray, best, scratch.shadow);
-    scratch.occluded.assign(scratch.shadow.size(), 0);
-    for (std::uint32_t k = 0; k < scratch.shadow.size(); ++k) {
-      const Ray<T>& shadow = scratch.shadow[k];
-      rec.begin_ray(shadow, RayKind::shadow, pixel, k);
-      bool occluded = false;
-      route_ray(
-          in, shadow, key, rec, scratch,
-          [&](std::uint32_t u) {
-            rec.begin_unit(u);
-            UnitAnswer<T> a;
-            a.occluded = trace_any(in.geometry, in.units[u], shadow, visit, log, key);
-            rec.end_unit(u, a);
-            occluded = occluded || a.occluded;
-            return occluded;
-          },
-          [&] { return shadow.tmax; });
-      rec.end_ray();
-      scratch.occluded[k] = occluded ? 1 : 0;
+  return best;
+}
+
+// ... and a shadow ray: whether any unit found it occluded.
+template <typename T, typename Recorder>
+bool trace_shadow_ray(const FrameTraceInputs<T>& in, const Ray<T>& shadow, std::uint32_t key, Recorder& rec,
+                      PixelScratch<T>& scratch) {
+  StageLog* log = in.log_stages ? &scratch.log : nullptr;
+  auto visit = [&rec](const SphereVisit& v) { rec.visit(v); };
+  bool occluded = false;
+  route_ray(
+      in, shadow, key, rec, scratch,
+      [&](std::uint32_t u) {
+        rec.begin_unit(u);
+        UnitAnswer<T> a;
+        a.occluded = trace_any(in.geometry, in.units[u], shadow, visit, log, key);
+        rec.end_unit(u, a);
+        occluded = occluded || a.occluded;
+        return occluded;
+      },
+      [&] { return shadow.tmax; });
+  return occluded;
+}
+
+// A nearest-hit ray's colour from its own and its children's (traced after it): a shadow
+// ray adds its light's term unless occluded, a secondary ray its weight times its colour.
+template <typename T>
+Vec3d gather_colour(const std::vector<PixelRay<T>>& rays, const PixelRay<T>& r) {
+  Vec3d c = r.colour;
+  for (std::uint32_t k = r.first_child; k < r.first_child + r.children; ++k) {
+    const PixelRay<T>& child = rays[k];
+    if (child.spawned.kind == RayKind::shadow) {
+      if (!child.answer) c += child.spawned.weight;
+    } else {
+      c += child.spawned.weight * child.colour;
     }
-    colour = in.shader.finish(state, scratch.occluded.data());
-    image.z[pixel] = static_cast<float>(best.t);
-    image.object[pixel] = best.object;
-    image.prim[pixel] = best.prim;
+  }
+  return c;
+}
+
+template <typename T, typename Recorder>
+void trace_pixel(const FrameTraceInputs<T>& in, int x, int y, FrameImage& image, Recorder& rec,
+                 PixelScratch<T>& scratch) {
+  const std::size_t pixel = static_cast<std::size_t>(y) * image.width + x;
+  const std::uint32_t key = share_key(x, y);  // which copy of a replicated sphere takes the pixel's rays
+  auto& rays = scratch.rays;
+  rays.clear();
+  rays.emplace_back();
+  rays[0].spawned.ray = in.camera.template ray<T>(x, y);
+  rays[0].spawned.kind = RayKind::primary;
+  HitRecord<T> primary_hit;
+  for (std::uint32_t i = 0; i < rays.size(); ++i) {
+    const SpawnedRay<T> ray = rays[i].spawned;  // a copy: spawning grows `rays`
+    const int depth = rays[i].depth;
+    rec.begin_ray(ray.ray, ray.kind, pixel, depth);
+    RayEnd<T> end;
+    if (ray.kind == RayKind::shadow) {
+      rays[i].answer = trace_shadow_ray(in, ray.ray, key, rec, scratch);
+    } else {
+      end.hit = trace_nearest_ray(in, ray.ray, key, rec, scratch);
+      if (i == 0) primary_hit = end.hit;
+      rays[i].answer = end.hit.valid();
+      rays[i].colour = in.shader.background();
+      if (end.hit.valid()) {
+        scratch.spawned.clear();
+        rays[i].colour = in.shader.shade(ray.ray, end.hit, depth, ray.inside, scratch.spawned);
+        rays[i].first_child = static_cast<std::uint32_t>(rays.size());
+        rays[i].children = static_cast<std::uint32_t>(scratch.spawned.size());
+        for (const SpawnedRay<T>& s : scratch.spawned) {
+          rays.emplace_back();
+          rays.back().spawned = s;
+          rays.back().depth = static_cast<std::uint8_t>(depth + (s.kind == RayKind::shadow ? 0 : 1));
+        }
+        if (rays[i].children) end.first_child = rays[i].first_child - i, end.children = rays[i].children;
+      }
+    }
+    rec.end_ray(end);
+  }
+  for (std::size_t i = rays.size(); i-- > 0;)  // children after their parents: colours bottom up
+    if (rays[i].spawned.kind != RayKind::shadow && rays[i].answer) rays[i].colour = gather_colour(rays, rays[i]);
+  const Vec3d colour = rays[0].colour;
+  if (primary_hit.valid()) {
+    image.z[pixel] = static_cast<float>(primary_hit.t);
+    image.object[pixel] = primary_hit.object;
+    image.prim[pixel] = primary_hit.prim;
   }
   image.r[pixel] = static_cast<float>(colour.x);
   image.g[pixel] = static_cast<float>(colour.y);

@@ -17,8 +17,8 @@ WorkCounts FrameWork::total(RayKind k) const {
 }
 
 WorkCounts FrameWork::total() const {
-  WorkCounts w = total(RayKind::primary);
-  w += total(RayKind::shadow);
+  WorkCounts w;
+  for (int k = 0; k < kRayKinds; ++k) w += total(static_cast<RayKind>(k));
   return w;
 }
 
@@ -36,7 +36,7 @@ struct WorkRecorder {
   FrameWork* work;
   int kind = 0;
   template <typename Ray>
-  void begin_ray(const Ray&, RayKind k, std::size_t, std::uint32_t) {
+  void begin_ray(const Ray&, RayKind k, std::size_t, int) {
     kind = static_cast<int>(k);
     ++work->rays[kind];
   }
@@ -48,15 +48,17 @@ struct WorkRecorder {
   }
   template <typename Answer>
   void end_unit(std::uint32_t, const Answer&) {}
-  void end_ray() {}
+  template <typename End>
+  void end_ray(const End&) {}
 };
 }  // namespace
 
 template <typename T>
-FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int frame, int width, int height) {
+FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int frame, int width, int height,
+                             int depth) {
   const FrameSetup<T> f = setup_frame(scene, g, frame);
   const CameraRays camera(f.camera, width, height);
-  const Shader<T> shader(scene, f);
+  const Shader<T> shader(scene, f, depth);
   std::vector<std::uint32_t> all(g.sphere_count());
   std::iota(all.begin(), all.end(), 0u);
   std::vector<IuRegisters<T>> one_unit(1);
@@ -80,7 +82,7 @@ FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int 
   return out;
 }
 
-template FrameResult render_reference(const Scene&, const SceneGeometry<float>&, int, int, int);
-template FrameResult render_reference(const Scene&, const SceneGeometry<double>&, int, int, int);
+template FrameResult render_reference(const Scene&, const SceneGeometry<float>&, int, int, int, int);
+template FrameResult render_reference(const Scene&, const SceneGeometry<double>&, int, int, int, int);
 
 }  // namespace oprt

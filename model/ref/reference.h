@@ -32,9 +32,11 @@ struct FrameResult {
 };
 
 template <typename T>
-FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int frame, int width, int height);
+// depth: Whitted's recursion bound (-1: the scene's).
+FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int frame, int width, int height,
+                             int depth = -1);
 
-extern template FrameResult render_reference(const Scene&, const SceneGeometry<float>&, int, int, int);
-extern template FrameResult render_reference(const Scene&, const SceneGeometry<double>&, int, int, int);
+extern template FrameResult render_reference(const Scene&, const SceneGeometry<float>&, int, int, int, int);
+extern template FrameResult render_reference(const Scene&, const SceneGeometry<double>&, int, int, int, int);
 
 }  // namespace oprt

@@ -79,6 +79,15 @@ Vec3d offset_origin(Kernel kernel, const Vec3d& p, const Vec3d& n, const Vec3d& 
   return o;
 }
 
+namespace {
+// The inverse transpose (L^-1)^T n: how a normal goes from local to world coordinates.
+Vec3d normal_to_world(const Placement& pl, const Vec3d& nl) {
+  const auto& li = pl.to_local.m;
+  return {li[0][0] * nl.x + li[1][0] * nl.y + li[2][0] * nl.z, li[0][1] * nl.x + li[1][1] * nl.y + li[2][1] * nl.z,
+          li[0][2] * nl.x + li[1][2] * nl.y + li[2][2] * nl.z};
+}
+}  // namespace
+
 SurfacePoint surface_point(const Object& obj, const Placement& pl, std::uint32_t prim, double u, double v) {
   const Tri& tri = obj.mesh.triangles[prim];
   SurfacePoint s;
@@ -86,53 +95,99 @@ SurfacePoint surface_point(const Object& obj, const Placement& pl, std::uint32_t
   s.b = obj.mesh.vertices[tri[1]];
   s.c = obj.mesh.vertices[tri[2]];
   s.p = pl.to_world.point(s.a + (s.b - s.a) * u + (s.c - s.a) * v);
-  // Normals transform by the inverse transpose: n_world = (L^-1)^T n_local.
-  const Vec3d nl = cross3(s.b - s.a, s.c - s.a);
-  const auto& li = pl.to_local.m;
-  const Vec3d n{li[0][0] * nl.x + li[1][0] * nl.y + li[2][0] * nl.z,
-                li[0][1] * nl.x + li[1][1] * nl.y + li[2][1] * nl.z,
-                li[0][2] * nl.x + li[1][2] * nl.y + li[2][2] * nl.z};
-  s.n = glm::normalize(n);
-  return s;
-}
-
-template <typename T>
-ShadeState<T> Shader<T>::prepare(const Ray<T>& primary, const HitRecord<T>& hit,
-                                 std::vector<Ray<T>>& shadow) const {
-  ShadeState<T> s;
-  const Object& obj = scene_.objects[hit.object];
-  const Material& mat = scene_.materials[obj.material];
-  const Placement& pl = frame_.placement[hit.object];
-  const SurfacePoint sp = surface_point(obj, pl, hit.prim, hit.u, hit.v);
-  const Vec3d &p = sp.p, &a = sp.a, &b = sp.b, &c = sp.c;
-  Vec3d n = sp.n;
-  const Vec3d view = -glm::normalize(Vec3d(primary.d));
-  if (dot3(n, view) < 0) n = -n;  // two-sided: shade the side the ray sees
-  s.color = scene_.ambient * mat.diffuse;
-  for (const PointLight& light : frame_.lights) {
-    const Vec3d to_light = light.position - p;
-    const double dist = std::sqrt(dot3(to_light, to_light));
-    if (!(dist > 0)) continue;
-    const Vec3d l = to_light / dist;
-    const double cos_l = dot3(n, l);
-    if (!(cos_l > 0)) continue;  // light behind the surface: unlit, no ray needed
-    const Vec3d r = n * (2 * cos_l) - l;
-    const double spec = std::pow(std::max(0.0, dot3(r, view)), mat.shininess);
-    s.light_term.push_back((mat.diffuse * cos_l + mat.specular * spec) * light.color);
-    const Vec3d origin = offset_origin<T>(frame_.kernel, p, n, l, pl, a, b, c);
-    const Vec3d d = light.position - origin;
-    const double len = std::sqrt(dot3(d, d));
-    shadow.push_back({Vec3<T>(origin), Vec3<T>(d / len), static_cast<T>(len)});
+  s.n = glm::normalize(normal_to_world(pl, cross3(s.b - s.a, s.c - s.a)));
+  s.shading = s.n;
+  if (obj.mesh.has_normals(prim)) {  // the published normals, interpolated (Phong 1975)
+    const Tri& ni = obj.mesh.normal_index[prim];
+    const Vec3d nl = obj.mesh.normals[ni[0]] * (1 - u - v) + obj.mesh.normals[ni[1]] * u + obj.mesh.normals[ni[2]] * v;
+    const Vec3d nw = normal_to_world(pl, nl);
+    if (dot3(nw, nw) > 0) s.shading = glm::normalize(nw);
   }
   return s;
 }
 
 template <typename T>
-Vec3d Shader<T>::finish(const ShadeState<T>& s, const std::uint8_t* occluded) const {
-  Vec3d c = s.color;
-  for (std::size_t i = 0; i < s.light_term.size(); ++i)
-    if (!occluded[i]) c += s.light_term[i];
-  return c;
+Vec3d Shader<T>::shade(const Ray<T>& ray, const HitRecord<T>& hit, int depth, bool inside,
+                       std::vector<SpawnedRay<T>>& out) const {
+  const Object& obj = scene_.objects[hit.object];
+  const Material& mat = scene_.materials[obj.material];
+  const Placement& pl = frame_.placement[hit.object];
+  const SurfacePoint sp = surface_point(obj, pl, hit.prim, hit.u, hit.v);
+  const Vec3d& p = sp.p;
+  const Vec3d view = -glm::normalize(Vec3d(ray.d));
+  // Two-sided: shade the side the ray sees. The geometric normal nf decides which lights
+  // face the surface and which side a spawned ray leaves from (so that no ray starts behind
+  // its own triangle); the shading normal ns, turned the same way, gives the light's terms
+  // and the secondary rays' directions. Without published normals ns is nf, bit for bit.
+  const Vec3d nf = dot3(sp.n, view) < 0 ? -sp.n : sp.n;
+  const Vec3d ns = dot3(sp.shading, nf) < 0 ? -sp.shading : sp.shading;
+  for (const PointLight& light : frame_.lights) {
+    const Vec3d to_light = light.position - p;
+    const double dist = std::sqrt(dot3(to_light, to_light));
+    if (!(dist > 0)) continue;
+    const Vec3d l = to_light / dist;
+    if (!(dot3(nf, l) > 0)) continue;  // light behind the surface: unlit, no ray needed
+    const double cos_l = std::max(0.0, dot3(ns, l));
+    const Vec3d r = ns * (2 * cos_l) - l;
+    const double spec = std::pow(std::max(0.0, dot3(r, view)), mat.shininess);
+    const Vec3d origin = offset_origin<T>(frame_.kernel, p, nf, l, pl, sp.a, sp.b, sp.c);
+    const Vec3d d = light.position - origin;
+    const double len = std::sqrt(dot3(d, d));
+    out.push_back({{Vec3<T>(origin), Vec3<T>(d / len), static_cast<T>(len)},
+                   RayKind::shadow,
+                   (mat.diffuse * cos_l + mat.specular * spec) * light.color,
+                   inside});
+  }
+  if (depth < depth_) spawn_secondary(ray, sp, nf, ns, mat, pl, inside, out);
+  return scene_.ambient * mat.diffuse;
+}
+
+// The reflection ray, R = D - 2 (D.N) N, and the refraction ray by Snell's law, with eta the
+// ratio of the indices on the two sides (1 / ior entering the object, ior leaving it: the ray
+// knows whether it travels inside; nested media are not tracked):
+//   T = eta D + (eta cos_i - sqrt(k)) N,  k = 1 - eta^2 (1 - cos_i^2),  cos_i = -D.N.
+// k < 0 is total internal reflection: no light leaves, and the transmitted share follows the
+// reflected direction (one reflection ray carries both weights). N is the shading normal
+// unless it would send the ray to the wrong side of the triangle (a grazing ray on a curved
+// mesh): then the geometric one.
+template <typename T>
+void Shader<T>::spawn_secondary(const Ray<T>& ray, const SurfacePoint& sp, const Vec3d& nf, const Vec3d& ns,
+                                const Material& mat, const Placement& pl, bool inside,
+                                std::vector<SpawnedRay<T>>& out) const {
+  const Vec3d d = glm::normalize(Vec3d(ray.d));
+  auto emit = [&](RayKind kind, Vec3d dir, const Vec3d& side, const Vec3d& weight, bool in) {
+    dir = glm::normalize(dir);
+    const Vec3d origin = offset_origin<T>(frame_.kernel, sp.p, side, dir, pl, sp.a, sp.b, sp.c);
+    out.push_back({{Vec3<T>(origin), Vec3<T>(dir), kInf<T>}, kind, weight, in});
+  };
+  auto reflected = [&](const Vec3d& n) { return d - n * (2 * dot3(d, n)); };
+  Vec3d reflect = mat.reflect;
+  Vec3d transmitted{0};
+  bool refracts = false;
+  if (mat.transmits()) {
+    const double eta = inside ? mat.ior : 1 / mat.ior;
+    Vec3d n = ns;
+    double cos_i = -dot3(d, n);
+    const double k = 1 - eta * eta * (1 - cos_i * cos_i);
+    if (k < 0) {
+      reflect += mat.transmit;  // total internal reflection
+    } else {
+      transmitted = d * eta + n * (eta * cos_i - std::sqrt(k));
+      if (!(dot3(transmitted, nf) < 0)) {  // bent back by the shading normal: the geometric one
+        n = nf;
+        cos_i = -dot3(d, n);
+        transmitted = d * eta + n * (eta * cos_i - std::sqrt(std::max(0.0, 1 - eta * eta * (1 - cos_i * cos_i))));
+      }
+      refracts = dot3(transmitted, nf) < 0;
+      if (!refracts) reflect += mat.transmit;  // grazing: nothing crosses
+    }
+  }
+  if (reflect.x > 0 || reflect.y > 0 || reflect.z > 0) {
+    Vec3d r = reflected(ns);
+    if (!(dot3(r, nf) > 0)) r = reflected(nf);
+    emit(RayKind::reflection, r, nf, reflect, inside);
+  }
+  if (refracts) emit(RayKind::refraction, transmitted, -nf, mat.transmit, !inside);
 }
 
 template class Shader<float>;

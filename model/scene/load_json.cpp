@@ -145,7 +145,7 @@ Scene load_oprt_json(const std::string& path) {
   const nlohmann::json doc = JsonIn::parse_file(path);
   const JsonIn root(doc, path);
   root.only_keys({"format", "camera", "image", "background", "ambient", "lights", "materials",
-                  "objects", "frames", "comment"});
+                  "objects", "frames", "depth", "comment"});
   const std::string format = root.at("format").string();
   if (format != "oprt-scene/1") root.at("format").fail("unsupported format \"" + format + "\" (expected oprt-scene/1)");
 
@@ -235,6 +235,7 @@ Scene load_oprt_json(const std::string& path) {
   if (default_used) s.materials.push_back(Material{"default", Vec3d(0.7), Vec3d(0.2), 32});
   if (s.materials.empty()) s.materials.push_back(Material{"default", Vec3d(0.7), Vec3d(0.2), 32});
   s.frame_count = static_cast<int>(root.integer_or("frames", 1, 1, 1000000));
+  s.depth = static_cast<int>(root.integer_or("depth", Scene::kDefaultDepth, 0, kMaxDepth));
   validate_scene(s);
   return s;
 }

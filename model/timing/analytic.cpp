@@ -69,6 +69,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   gpp.connect(frame_, fifos, iu, dram.get());
   out.makespan = gpp.run();
   route_figures(frame_, units, out.route);
+  ray_figures(frame_, arch_, units, gpp.waiting(), [](std::uint64_t c) { return c; }, out.ray_figures);
   *cmd.image = frame_.image;
   report_work(frame_, out);
   unit_figures(out, timed, fifos, iu);

@@ -97,7 +97,7 @@ typename AnalyticGpp<T>::Cycles AnalyticGpp<T>::run() {
     if (next == Next::retire) {
       retire_ray(*work_, arch_, *this);
     } else if (next == Next::issue) {
-      issue_ray(plan_, *work_, work_->take_ray(), arch_, *this);
+      issue_ray(plan_, *work_, work_->take_ray(g_), arch_, *this);
     } else {
       const Cycles t = std::min(work_->due(never), room);
       if (!bus_.idle() && bus_.next_request() <= t) grant_until(bus_.next_request());  // may complete a ray earlier

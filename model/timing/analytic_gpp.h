@@ -32,6 +32,7 @@ class AnalyticGpp final : public AnswerSink {
   void connect(const FunctionalFrame<T>& f, AnalyticFifos& fifos, AnalyticUnits<T>& units, AnalyticDram* dram);
   // The GPP's work in its order until every ray has retired; returns the frame's makespan.
   Cycles run();
+  const Waiting<Cycles>& waiting() const { return work_->waiting(); }
 
   // The recipe's clock (gpp_recipe.h).
   void compute(GppPhase phase, std::uint64_t cycles);

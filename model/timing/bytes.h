@@ -36,13 +36,20 @@ struct Bytes {
 };
 
 // Rays of the frame in flight, by id. Written by the GPP; units read the ray a FIFO entry
-// names.
+// names. A nearest-hit ray keeps the traced hit (the GPP checks the units' merged answer
+// against it) and the rays its hit spawns, which the GPP issues once it has shaded the hit:
+// ids [id + first_child, id + first_child + children) (ref/frame_trace.h).
 template <typename T>
 struct RayRecord {
   Ray<T> ray;
   RayKind kind = RayKind::primary;
+  std::uint8_t depth = 0;      // bounces from the camera (a shadow ray: its hit's)
+  std::uint32_t children = 0;
   std::uint32_t pixel = 0;
-  std::uint32_t slot = 0;  // a shadow ray's index among its pixel's shadow rays
+  std::uint32_t first_child = 0;
+  std::uint32_t object = kNone, prim = kNone;  // the traced nearest hit (kNone: a miss, or a shadow ray)
+  float t = 0;
+  bool hit() const { return object != kNone; }
 };
 
 // The host's command for one frame (the data of a write to the GPP's host socket).

@@ -72,10 +72,15 @@ class Recorder {
     c_.hits_of.assign(regs.size(), 0);
   }
 
-  void begin_ray(const Ray<T>& ray, RayKind kind, std::size_t pixel, std::uint32_t slot) {
+  void begin_ray(const Ray<T>& ray, RayKind kind, std::size_t pixel, int depth) {
     kind_ = static_cast<int>(kind);
     slice_ = static_cast<std::uint32_t>(pixel * kWorkSlices / pixels_);
-    c_.rays.push_back({ray, kind, static_cast<std::uint32_t>(pixel), slot});
+    RayRecord<T> r;
+    r.ray = ray;
+    r.kind = kind;
+    r.depth = static_cast<std::uint8_t>(depth);
+    r.pixel = static_cast<std::uint32_t>(pixel);
+    c_.rays.push_back(r);
     if (kind == RayKind::primary) c_.pixel_rays.push_back(0);
     ++c_.pixel_rays.back();
     if (routed_) c_.route_count.push_back(0), c_.route_skips.push_back(0);
@@ -172,7 +177,15 @@ class Recorder {
     ++c_.skipped;
     ++c_.route_skips.back();
   }
-  void end_ray() {}
+  void end_ray(const RayEnd<T>& e) {
+    RayRecord<T>& r = c_.rays.back();
+    r.first_child = e.first_child;
+    r.children = e.children;
+    if (!e.hit.valid()) return;
+    r.object = e.hit.object;
+    r.prim = e.hit.prim;
+    r.t = static_cast<float>(e.hit.t);
+  }
 
  private:
   Chunk<T>& c_;

@@ -115,7 +115,7 @@ const typename GppPlan<T>::Config& GppPlan<T>::configure(const FrameCommand& cmd
 template <typename T>
 void GppPlan<T>::trace(FunctionalFrame<T>& out, const FrameCommand& cmd, bool traced) const {
   const CameraRays camera(cmd.camera, cmd.width, cmd.height);
-  const Shader<T> shader(scene_, *setup_);
+  const Shader<T> shader(scene_, *setup_, arch_.gpp.depth);
   // The records' detail (which spheres, what each visit cost): for the waveform's and the
   // timeline's phases, for caches, which time each visit, and for pipelines, which
   // schedule each visit's work on their stages.

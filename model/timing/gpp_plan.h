@@ -14,7 +14,8 @@
 //  - The frame's functional work (trace), traced once with the units' registers, with the
 //    detail that timing through caches, pipelines or a trace needs.
 //  - The order of its work (GppWork): a ray whose answers are all in first, then a pending
-//    shadow ray, then the next primary ray.
+//    ray its hit spawned (shadow, reflection, refraction: issued only once that hit is
+//    shaded), then the next primary ray.
 #pragma once
 
 #include "arch/arch.h"
@@ -96,29 +97,44 @@ class GppPlan {
   Schedule router_;
 };
 
+// What the dependency of a ray on its parent's answer costs, in a clock's time: per ray kind,
+// the rays' latency (issue to last answer) and, for spawned rays, the delay from their
+// parent's issue to their own; and the time the GPP had rays in flight but none it could
+// issue (every ray left waits for an answer: `starved`).
+template <typename Time>
+struct Waiting {
+  Time latency[kRayKinds] = {}, spawn_delay[kRayKinds] = {};
+  Time starved{};
+};
+
 // The order of the GPP's work, at either level, in its own time type (sc_time or cycles).
 // A routed ray (ref/route.h) goes out in waves: when a wave's answers are all in and the ray
 // has another wave, that wave is written next (before pending shadow rays).
 template <typename T, typename Time>
 class GppWork {
  public:
-  explicit GppWork(const FunctionalFrame<T>& f) : f_(f), pixels_(f.pixel_rays.size() - 1) {
+  explicit GppWork(const FunctionalFrame<T>& f)
+      : f_(f), pixels_(f.pixel_rays.size() - 1), issued_at_(f.ray_count(), Time{}) {
     if (f.routed) wave_at_.assign(f.route_first.begin(), f.route_first.end() - 1);
   }
+
+  const Waiting<Time>& waiting() const { return waiting_; }
 
   enum class Next { retire, issue, wait, done };
   // At `now`, with the ray whose answers are all in earliest due at due(), and the next ray
   // writable at `room` (when every ray FIFO it goes to has room; `never` if there is no ray
   // to write): what the GPP does. A completion and a write possible at the same time: the
   // completion.
-  Next next(Time now, Time room, Time never, bool all_retired) const {
-    const Time due = completed_.empty() ? never : completed_.top().at;
-    const Time next = std::min(due, room);
-    if (next == never) return has_ray() || !all_retired ? Next::wait : Next::done;
-    if (next > now) return Next::wait;
-    return due <= room ? Next::retire : Next::issue;
+  // Both clocks call it in every step of their loop, so the time between a call that
+  // returned `wait` with no ray to issue and the next call is time the GPP starved.
+  Next next(Time now, Time room, Time never, bool all_retired) {
+    if (starving_ && now > last_now_) waiting_.starved += now - last_now_;
+    last_now_ = now;
+    const Next n = choose(now, room, never, all_retired);
+    starving_ = n == Next::wait && !has_ray();
+    return n;
   }
-  bool has_ray() const { return !waves_.empty() || !shadow_.empty() || next_pixel_ < pixels_; }
+  bool has_ray() const { return !waves_.empty() || !spawned_.empty() || next_pixel_ < pixels_; }
   // The earliest completion, or `never`, and its ray (when there is one).
   Time due(Time never) const { return completed_.empty() ? never : completed_.top().at; }
   std::uint32_t due_ray() const { return completed_.top().ray; }
@@ -126,34 +142,48 @@ class GppWork {
   void answered(Time at, std::uint32_t id) { completed_.push({at, id}); }
   struct Retired {
     std::uint32_t ray;
-    bool shade = false;      // a primary ray that hit: the GPP shades it
+    bool shade = false;      // a primary or secondary ray that hit: the GPP shades it
     bool next_wave = false;  // not done: its next wave is queued
   };
   // The completion to handle next. A routed ray with another wave queues it; else the ray
-  // is done, and a primary ray that hit queues its shadow rays.
+  // is done, and a ray that hit queues the rays its hit spawns.
   Retired retire() {
     const std::uint32_t id = completed_.top().ray;
+    const Time at = completed_.top().at;
     completed_.pop();
     if (f_.routed && wave_at_[id] != f_.route_first[id + 1]) {
       waves_.push_back(id);
       return {id, false, true};
     }
     const RayRecord<T>& r = f_.rays[id];
-    if (r.kind != RayKind::primary || f_.image.object[r.pixel] == kNone) return {id};
-    for (std::uint32_t s = id + 1; s < f_.pixel_rays[r.pixel + 1]; ++s) shadow_.push_back(s);
+    waiting_.latency[static_cast<int>(r.kind)] += at - issued_at_[id];
+    if (!r.hit()) return {id};
+    for (std::uint32_t s = id + r.first_child; s < id + r.first_child + r.children; ++s) {
+      spawned_.push_back(s);
+      issued_at_[s] = issued_at_[id];  // the parent's, until the ray is issued (take_ray)
+    }
     return {id, true};
   }
-  // The next ray to write: a routed ray's next wave first, then a pending shadow ray.
+  // The next ray to write: a routed ray's next wave first, then a pending spawned ray.
   std::uint32_t peek_ray() const {
     if (!waves_.empty()) return waves_.front();
-    if (!shadow_.empty()) return shadow_.front();
+    if (!spawned_.empty()) return spawned_.front();
     return f_.pixel_rays[next_pixel_];
   }
-  std::uint32_t take_ray() {
+  // The next ray, written at `now`.
+  std::uint32_t take_ray(Time now) {
     const std::uint32_t id = peek_ray();
-    if (!waves_.empty()) waves_.pop_front();
-    else if (!shadow_.empty()) shadow_.pop_front();
-    else ++next_pixel_;
+    if (!waves_.empty()) {
+      waves_.pop_front();
+      return id;
+    }
+    if (!spawned_.empty()) {
+      spawned_.pop_front();
+      waiting_.spawn_delay[static_cast<int>(f_.rays[id].kind)] += now - issued_at_[id];
+    } else {
+      ++next_pixel_;
+    }
+    issued_at_[id] = now;
     return id;
   }
   // The units ray `id`'s next wave goes to (routed: a range of FunctionalFrame::route_units,
@@ -181,6 +211,14 @@ class GppWork {
   }
 
  private:
+  Next choose(Time now, Time room, Time never, bool all_retired) const {
+    const Time due = completed_.empty() ? never : completed_.top().at;
+    const Time next = std::min(due, room);
+    if (next == never) return has_ray() || !all_retired ? Next::wait : Next::done;
+    if (next > now) return Next::wait;
+    return due <= room ? Next::retire : Next::issue;
+  }
+
   struct Completion {
     Time at;
     std::uint32_t ray;
@@ -190,8 +228,12 @@ class GppWork {
   const std::size_t pixels_;
   std::size_t next_pixel_ = 0;
   std::priority_queue<Completion, std::vector<Completion>, std::greater<Completion>> completed_;
-  std::deque<std::uint32_t> shadow_, waves_;
+  std::deque<std::uint32_t> spawned_, waves_;
   std::vector<std::uint32_t> wave_at_;  // routed: where ray r's next wave starts in route_units
+  std::vector<Time> issued_at_;         // per ray: when it was issued
+  Waiting<Time> waiting_;
+  Time last_now_{};
+  bool starving_ = false;
 };
 
 extern template class GppPlan<float>;

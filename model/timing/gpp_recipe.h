@@ -53,7 +53,7 @@ RayWrites ray_writes(const Arch& a, std::size_t units, const Wave& wave) {
 // The answer a unit sends for a ray of this kind.
 template <typename T>
 constexpr std::uint64_t answer_bytes(RayKind k) {
-  return k == RayKind::primary ? Bytes<T>::nearest_answer : Bytes<T>::shadow_answer;
+  return seeks_nearest(k) ? Bytes<T>::nearest_answer : Bytes<T>::shadow_answer;
 }
 
 // The frame's start: the geometry that moved or deforms is written into object memory (the
@@ -87,7 +87,7 @@ std::size_t issue_ray(const GppPlan<T>& plan, GppWork<T, Time>& work, std::uint3
 }
 
 // Handle the completion due first: a routed ray's next wave is queued, or the ray retires; a
-// primary ray that hit is shaded (gpp.cycles_per_hit) and its shadow rays queued.
+// ray that hit is shaded (gpp.cycles_per_hit) and the rays it spawns queued.
 template <typename T, typename Time, typename Clock>
 typename GppWork<T, Time>::Retired retire_ray(GppWork<T, Time>& work, const Arch& a, Clock& clock) {
   const auto r = work.retire();

@@ -7,6 +7,7 @@
 #include "timing/cache.h"
 #include "timing/functional_frame.h"
 #include "timing/pipeline_timing.h"
+#include "timing/ray_figures.h"
 #include "timing/unit_cycles.h"
 
 #include <array>
@@ -58,10 +59,24 @@ struct FrameRun {
   std::uint64_t memory_load_cycles = 0;  // bus time of the geometry moved in (0 on an ideal bus)
   std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;  // --top bvh: the GPP's refit (gpp_plan.h)
   RouteRun route;
+  RayFigures ray_figures;  // per kind and depth (ray_figures.h)
   std::vector<UnitRun> units;
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere], whichever unit did it
   std::vector<std::uint64_t> sphere_slices, unit_node_slices;  // FunctionalFrame's: when the work lay in the frame
 };
+
+// The rays' figures of a frame (ray_figures.h): the counts from its trace, the times from
+// the GPP's Waiting converted to cycles by `cycles`.
+template <typename T, typename Time, typename ToCycles>
+void ray_figures(const FunctionalFrame<T>& f, const Arch& a, std::size_t units, const Waiting<Time>& w,
+                 ToCycles&& cycles, RayFigures& out) {
+  count_ray_figures(f, a, units, out);
+  for (int k = 0; k < kRayKinds; ++k) {
+    out.kind[k].latency = cycles(w.latency[k]);
+    out.kind[k].spawn_delay = cycles(w.spawn_delay[k]);
+  }
+  out.starved = cycles(w.starved);
+}
 
 // The frame's work tables a run reports (for the next frame's balance).
 template <typename T>

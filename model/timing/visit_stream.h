@@ -48,7 +48,7 @@ inline bool memory_is_cache(const Arch& a, std::uint64_t bytes) {
   return a.memory.sram_bytes != 0 && bytes > a.memory.sram_bytes;
 }
 
-// The visit of ray `ray` (primary: nearest hit; shadow: any hit) to register entry `entry`,
+// The visit of ray `ray` (shadow: any hit; the other kinds: the nearest) to register entry `entry`,
 // as the unit makes it, in memory order. Returns its work (the trace's, recomputed).
 template <typename T>
 WorkCounts visit_stream(const SceneGeometry<T>& g, const IuRegisters<T>& regs, const Ray<T>& ray, RayKind kind,
@@ -59,7 +59,7 @@ WorkCounts visit_stream(const SceneGeometry<T>& g, const IuRegisters<T>& regs, c
   out.sphere = s;
   out.bursts.clear();
   if (g.has_bvh()) {
-    if (kind == RayKind::primary) nearest_in_bvh(g, s, local, w, &out.stages, &out.node_ids);
+    if (seeks_nearest(kind)) nearest_in_bvh(g, s, local, w, &out.stages, &out.node_ids);
     else any_in_bvh(g, s, local, w, &out.stages, &out.node_ids);
     // Each node is a burst of one; the triangles after a leaf's node are its range.
     std::size_t k = 0;
@@ -80,7 +80,7 @@ WorkCounts visit_stream(const SceneGeometry<T>& g, const IuRegisters<T>& regs, c
     return w;
   }
   out.stages.resize(g.triangles_in(s));
-  if (kind == RayKind::primary)
+  if (seeks_nearest(kind))
     nearest_in_block(g.tris, g.first[s], g.first[s + 1], local, w.tri_stage, &w.tri_hits, out.stages.data());
   else
     any_in_block(g.tris, g.first[s], g.first[s + 1], local, w.tri_stage, &w.tri_hits, out.stages.data());

@@ -23,7 +23,7 @@ struct Counter {
   std::vector<std::array<WorkCounts, kRayKinds>> units;
   int kind = 0;
   std::uint32_t unit = 0;
-  void begin_ray(const Ray<float>&, RayKind k, std::size_t, std::uint32_t) { kind = static_cast<int>(k); }
+  void begin_ray(const Ray<float>&, RayKind k, std::size_t, int) { kind = static_cast<int>(k); }
   void begin_unit(std::uint32_t u) { unit = u; }
   void visit(const SphereVisit& v) {
     WorkCounts& w = units[unit][kind];
@@ -33,7 +33,7 @@ struct Counter {
   void end_unit(std::uint32_t, const UnitAnswer<float>&) {}
   void wave_end() {}
   void skip(std::uint32_t) {}
-  void end_ray() {}
+  void end_ray(const RayEnd<float>&) {}
 };
 
 void check(const nlohmann::json& j, const WorkCounts& w) {

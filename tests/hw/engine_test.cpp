@@ -34,7 +34,7 @@ std::vector<hw::UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<
   };
   const CameraRays cam(f.camera, w, h);
   const Shader<float> shader(scene, f);
-  std::vector<Ray<float>> shadow;
+  std::vector<SpawnedRay<float>> shadow;  // the paper's scenes spawn shadow rays only
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const Ray<float> ray = cam.ray<float>(x, y);
@@ -45,9 +45,9 @@ std::vector<hw::UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<
       }
       if (!best.valid()) continue;
       shadow.clear();
-      shader.prepare(ray, best, shadow);
-      for (const Ray<float>& s : shadow)
-        for (std::size_t u = 0; u < a.units(); ++u) trace_any(g, regs[u], s, add(u));
+      shader.shade(ray, best, 0, false, shadow);
+      for (const SpawnedRay<float>& s : shadow)
+        for (std::size_t u = 0; u < a.units(); ++u) trace_any(g, regs[u], s.ray, add(u));
     }
   std::vector<hw::UnitCycles> out;
   for (const WorkCounts& wk : work) out.push_back(hw::work_cycles(wk, costs, g.kernel()));

@@ -97,7 +97,7 @@ void check_paper_room(Accel accel) {
     units.load(f, g, a);
     const CameraRays cam(f.camera, 48, 48);
     const Shader<T> shader(s, f);
-    std::vector<Ray<T>> shadow;
+    std::vector<SpawnedRay<T>> shadow;  // the scene spawns shadow rays only
     for (int y = 0; y < 48; ++y)
       for (int x = 0; x < 48; ++x) {
         const Ray<T> ray = cam.ray<T>(x, y);
@@ -109,8 +109,8 @@ void check_paper_room(Accel accel) {
           if (h.valid() && closer(h, best)) best = h;
         }
         shadow.clear();
-        shader.prepare(ray, best, shadow);
-        for (const Ray<T>& sr : shadow) occluded += check_shadow(g, units, sr, flat, tree);
+        shader.shade(ray, best, 0, false, shadow);
+        for (const SpawnedRay<T>& sr : shadow) occluded += check_shadow(g, units, sr.ray, flat, tree);
       }
   }
   // Built once for every unit (a tree over n spheres has 2n - 1 nodes), never rebuilt.

@@ -163,11 +163,15 @@ class TestTimeline(unittest.TestCase):
             tracks = timeline_slices(os.path.join(d, "t.json"))
             frame = self.check_against_stats(run, tracks)
             gpp = tracks["GPP"]
-            issues = [s for s in gpp if s[2] == "issue"]
-            self.assertEqual(len(issues), frame["rays"]["primary"] + frame["rays"]["shadow"])
-            self.assertTrue(all(s[1] == 4 * run.cycle_ps for s in issues))
-            self.assertTrue(all(s[1] == 30 * run.cycle_ps for s in gpp if s[2] == "shade"))
-            self.assertGreater(len([s for s in gpp if s[2] == "shade"]), 0)
+            # The GPP's work on a ray is named by the ray's kind: one issue slice per ray of
+            # each kind, one shade slice per primary hit (the paper's scenes reflect nothing).
+            for kind in ("primary", "shadow"):
+                issues = [s for s in gpp if s[2] == "issue " + kind]
+                self.assertEqual(len(issues), frame["rays"][kind])
+                self.assertTrue(all(s[1] == 4 * run.cycle_ps for s in issues))
+            self.assertEqual({s[2] for s in gpp} - {"frame", "issue primary", "issue shadow", "shade primary"}, set())
+            self.assertTrue(all(s[1] == 30 * run.cycle_ps for s in gpp if s[2] == "shade primary"))
+            self.assertGreater(len([s for s in gpp if s[2] == "shade primary"]), 0)
             # Within the frame (before it, the set-up loads the object memories).
             start = [s[0] for s in gpp if s[2] == "frame"][0]
             bus = [s for s in tracks["bus"] if s[0] >= start]
@@ -247,11 +251,11 @@ class TestSelections(unittest.TestCase):
                                                        os.path.join(d, "part.json"), "--trace-units", "1,3",
                                                        "--trace-signals", "state,gpp"])
             e = "testbench.engine."
-            chosen = [e + "iu1.state", e + "iu3.state", e + "gpp.rays_in_flight", e + "gpp.frame"]
+            chosen = [e + "iu1.state", e + "iu3.state", e + "gpp.rays_in_flight", e + "gpp.frame", e + "gpp.ray_kind"]
             self.check_restricted(parse_vcd(os.path.join(d, "part.vcd")), full, 0, full["#end"], chosen)
             with open(os.path.join(d, "part.gtkw")) as f:
                 listed = [l.strip() for l in f if l.startswith(e)]
-            self.assertEqual(listed, [e + "gpp.rays_in_flight[31:0]", e + "gpp.frame[31:0]",
+            self.assertEqual(listed, [e + "gpp.rays_in_flight[31:0]", e + "gpp.frame[31:0]", e + "gpp.ray_kind[1:0]",
                                       e + "iu1.state[2:0]", e + "iu3.state[2:0]"])
             self.assertEqual(sorted(timeline_slices(os.path.join(d, "part.json"))), ["GPP", "IU 1", "IU 3"])
 
