@@ -16,6 +16,12 @@ def read_stats(folder):
         return json.load(f)
 
 
+def frame_rays(frame):
+    """Every ray a frame of stats.json traced, whatever its kind (primary, shadow, and the
+    reflection and refraction rays listed when the frame has any)."""
+    return sum(frame["rays"].values())
+
+
 def number(text):
     """A CSV cell as an int, else a float, else the text as it is ('' stays '')."""
     for kind in (int, float):
