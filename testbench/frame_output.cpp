@@ -11,18 +11,7 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   FrameStats fs;
   fs.frame = frame;
   fs.wall_s = wall_s;
-  fs.makespan = run.makespan;
-  for (int k = 0; k < kRayKinds; ++k) fs.rays[k] = run.rays[k];
-  fs.ray_figures = run.ray_figures;
-  fs.bus_busy = run.bus_busy;
-  fs.bus_bytes = run.bus_bytes;
-  fs.bus_transfers = run.bus_transfers;
-  fs.memory_load_bytes = run.memory_load_bytes;
-  fs.memory_load_cycles = run.memory_load_cycles;
-  fs.refit_nodes = run.refit_nodes;
-  fs.refit_cycles = run.refit_cycles;
-  fs.built_nodes = run.built_nodes;
-  fs.route = run.route;
+  static_cast<hw::FrameFigures&>(fs) = run;
   fs.image_hash = image.hash();
   fs.frame_time_s = static_cast<double>(run.makespan) * job.arch.cycle_ns() * 1e-9;
   if (job.arch.iu.model == IuModel::pipelined) fs.pipeline = hw::pipeline_config(job.arch);
@@ -44,29 +33,15 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   for (std::size_t u = 0; u < run.units.size(); ++u) {
     const hw::UnitRun& r = run.units[u];
     UnitFrameStats us;
+    static_cast<hw::UnitRun&>(us) = r;
     us.id = static_cast<int>(u);
     us.spheres = job.assignment.unit[u];
     for (std::uint32_t s : us.spheres) us.primitives += geometry.triangles_in(s);
-    us.rays = r.rays;
-    us.cycles = r.cycles;
-    us.pipeline = r.pipeline;
     // Pipelined: idle while it holds no ray (its stall overlaps the stages' work).
     const std::uint64_t used = r.pipeline ? r.pipeline->occupied : r.cycles.busy() + r.cycles.stall;
     us.idle = fs.makespan > used ? fs.makespan - used : 0;
-    us.fifo_pushes = r.fifo_pushes;
-    us.fifo_pops = r.fifo_pops;
-    us.fifo_peak = r.fifo_peak;
-    us.memory_load_bytes = r.memory_load_bytes;
     us.config_bytes = us.spheres.size() * hw::Bytes<T>::sphere_config;
     for (std::uint32_t s : us.spheres) us.memory_capacity_bytes += geometry.memory_bytes(s);
-    for (int k = 0; k < kRayKinds; ++k) {
-      us.work[k] = r.work[k];  // the unit's share of a replicated sphere's work, not all of it
-      us.work[k].node_tests = r.node_tests[k];  // the unit's, never a sphere's
-    }
-    us.memory_bytes = r.memory_bytes;
-    us.cache = r.cache;
-    us.assigned_bytes = r.assigned_bytes;
-    us.memory = r.memory;
     fs.units.push_back(std::move(us));
   }
   if (job.cost) fs.energy = job.cost->frame(fs);

@@ -50,9 +50,8 @@ Assignment PolicyDriver<T>::with_copies(const Assignment& partition, const std::
     // The GPP's issue time in the frame before: its router's and its own per-ray cycles.
     in.slices = hw::kWorkSlices;
     measured_weights(*previous, &in.weight_slices);
-    std::uint64_t rays = 0;
-    for (int k = 0; k < kRayKinds; ++k) rays += previous->rays[k];
-    in.issue = static_cast<double>(previous->route.cycles) + static_cast<double>(rays) * arch_.gpp.cycles_per_ray;
+    in.issue = static_cast<double>(previous->route.cycles) +
+               static_cast<double>(previous->total_rays()) * arch_.gpp.cycles_per_ray;
   }
   return replicate(partition, in);
 }

@@ -93,8 +93,7 @@ Cost RunCost::frame(const FrameStats& fs) {
                                                             : std::max<std::uint64_t>(s.fifo_peak, s.fifo_pushes > 0);
     z.fifo_bytes = std::max(z.fifo_bytes, fifo_entries * b.ray);
     UnitActivity& a = act.units[u];
-    a.work = s.work[0];
-    a.work += s.work[1];
+    for (int k = 0; k < kRayKinds; ++k) a.work += s.work[k];
     a.memory_read_bytes = s.memory_bytes;
     a.memory_write_bytes = s.memory_load_bytes;
     a.fifo_pushes = s.fifo_pushes;

@@ -24,43 +24,25 @@
 
 namespace oprt {
 
-struct UnitFrameStats {
+// A unit's figures (timing/unit_run.h UnitRun), and what the run adds: its place in the
+// assignment and its sizes.
+struct UnitFrameStats : hw::UnitRun {
   int id = 0;
   std::vector<std::uint32_t> spheres;
   std::uint64_t primitives = 0;
-  std::uint64_t rays = 0;
-  hw::UnitCycles cycles;
   std::uint64_t idle = 0;
-  WorkCounts work[kRayKinds];
-  std::uint64_t memory_bytes = 0;
-  // Object memory: whether it was a cache (its spheres did not fit memory.sram_bytes), the
-  // bytes its spheres need, and through the cache its line hits, misses, bytes from DRAM;
-  // stall: cycles the unit waited for its object memory, whichever it was.
-  bool cache = false;
-  std::uint64_t assigned_bytes = 0;
-  hw::CacheCounts memory;
-  std::uint64_t memory_load_bytes = 0;      // geometry loaded into its object memory this frame
   std::uint64_t memory_capacity_bytes = 0;  // the geometry its assignment holds
   std::uint64_t config_bytes = 0;           // its configuration registers written this frame
-  std::uint64_t fifo_pushes = 0, fifo_pops = 0, fifo_peak = 0;  // peak: over the run so far, in time order
-  std::optional<hw::PipelineStats> pipeline;  // a pipelined unit's stages
 
   // Serial: the cycles it computed. Pipelined: the cycles it held at least one ray (its
   // stages work side by side, so their issue cycles can add up to more than the makespan).
   std::uint64_t busy_cycles() const { return pipeline ? pipeline->occupied : cycles.busy(); }
 };
 
-struct FrameStats {
+// A frame's figures (timing/unit_run.h FrameFigures), and what the run adds.
+struct FrameStats : hw::FrameFigures {
   int frame = 0;
-  std::uint64_t makespan = 0;  // cycles from the frame's first configuration write to its last retired ray
   double wall_s = 0;
-  std::uint64_t rays[kRayKinds] = {};
-  std::uint64_t bus_busy = 0, bus_bytes = 0, bus_transfers = 0;
-  std::uint64_t memory_load_bytes = 0;  // geometry moved into object memories this frame
-  std::uint64_t memory_load_cycles = 0;  // bus cycles of that move, inside the makespan (0 on an ideal bus)
-  std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;  // --top bvh: the GPP's work on the units' trees
-  hw::RouteRun route;  // --route: the router's cycles, spared (ray, unit) pairs, fan-out histogram
-  hw::RayFigures ray_figures;  // per ray kind and depth: fan-out, bytes, latency (timing/ray_figures.h)
   // --replicate: the copies (sphere, its units) and the bytes the copies beyond the first take.
   bool replicating = false;
   std::vector<Replica> replicas;
@@ -75,11 +57,6 @@ struct FrameStats {
   std::optional<hw::PipelineConfig> pipeline;
 
   std::uint64_t busy() const;
-  std::uint64_t total_rays() const {
-    std::uint64_t n = 0;
-    for (std::uint64_t r : rays) n += r;
-    return n;
-  }
   double fanout_mean() const;
   std::uint64_t fanout_max() const;
   // Sum of busy cycles / (units x makespan).

@@ -186,16 +186,11 @@ class Testbench : public sc_module {
     const sc_time cycle(job_.arch.cycle_ns(), SC_NS);
     const hw::GppStats& g = engine_->gpp().stats();
     hw::FrameRun run;
+    static_cast<hw::GppFigures&>(run) = g;
     run.makespan = static_cast<std::uint64_t>((g.end - g.start) / cycle + 0.5);
-    for (int k = 0; k < kRayKinds; ++k) run.rays[k] = g.rays[k];
     run.bus_busy = engine_->bus().busy_cycles();
     run.bus_bytes = engine_->bus().bytes();
     run.bus_transfers = engine_->bus().transfers();
-    run.memory_load_bytes = g.memory_load_bytes;
-    run.memory_load_cycles = g.memory_load_cycles;
-    run.refit_nodes = g.refit_nodes;
-    run.refit_cycles = g.refit_cycles;
-    run.built_nodes = g.built_nodes;
     const auto& f = engine_->functional();
     run.route.cycles = g.route_cycles;
     hw::route_figures(f, engine_->units(), run.route);
@@ -206,7 +201,7 @@ class Testbench : public sc_module {
       const hw::ObjectMemory& m = engine_->memory(u);
       hw::RayFifo& fifo = engine_->fifo(u);
       hw::UnitTimed t;
-      for (int k = 0; k < kRayKinds; ++k) t.rays += s.rays[k];
+      t.rays = hw::all_kinds(s.rays);
       t.bus_stall = s.bus_stall;
       t.cache = m.is_cache();
       t.memory = m.cache_counts();

@@ -124,7 +124,7 @@ struct Design {
 
 // One unit's counters for one frame.
 struct UnitActivity {
-  WorkCounts work;  // both ray kinds
+  WorkCounts work;  // every ray kind
   std::uint64_t memory_read_bytes = 0;
   std::uint64_t memory_write_bytes = 0;  // geometry loaded into its object memory this frame
   std::uint64_t fifo_pushes = 0, fifo_pops = 0;

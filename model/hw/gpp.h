@@ -18,6 +18,7 @@
 #include "timing/functional_frame.h"
 #include "timing/gpp_plan.h"
 #include "timing/gpp_recipe.h"
+#include "timing/unit_run.h"
 #include "hw/local_clock.h"
 #include "hw/extensions.h"
 #include "hw/ray_fifo.h"
@@ -38,15 +39,11 @@
 
 namespace oprt::hw {
 
-struct GppStats {
-  std::uint64_t rays[kRayKinds] = {};
+// The frame's figures (timing/unit_run.h GppFigures: rays, geometry loaded and its wait, the
+// refit), and the times and counts only this module has.
+struct GppStats : GppFigures {
   sc_core::sc_time start, end;           // the frame's first config write and last retirement
   std::uint64_t config_bytes = 0;
-  std::uint64_t memory_load_bytes = 0;   // geometry written into object memories this frame
-  std::uint64_t memory_load_cycles = 0;  // how long the GPP waited for those writes (0 on an ideal bus)
-  // --top bvh: nodes of the units' trees over their spheres refitted this frame, the GPP's
-  // cycles for that, and nodes built anew (the assignment changed)
-  std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;
   std::uint64_t route_cycles = 0;  // --route: the router's, on the GPP's timeline
   std::vector<std::uint64_t> unit_memory_load_bytes;  // per unit: its share of memory_load_bytes
   Waiting<sc_core::sc_time> waiting;  // what rays waiting for their parents' answers cost (gpp_plan.h)
