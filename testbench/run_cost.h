@@ -2,7 +2,8 @@
 // table (--tech, testbench/tech/*.json; by default the 65 nm table built into oprt) and the
 // counters the frame collected (cost/cost_model.h). It sizes each unit's object memory,
 // configuration registers and ray FIFO to their peak over the run so far, so the area it
-// reports can only grow as frames come in (a dynamic assignment, an unbounded FIFO).
+// reports can only grow as frames come in (a dynamic assignment, an unbounded FIFO). The
+// sizing rules are cost/sizing.h's; this holds the table and the design across frames.
 #pragma once
 
 #include "arch/arch.h"
