@@ -6,15 +6,15 @@
 namespace oprt {
 
 template <typename T>
-FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const SceneGeometry<T>& geometry, int frame,
+FrameStats frame_stats(const timing::FrameRun& run, const RenderJob& job, const SceneGeometry<T>& geometry, int frame,
                        double wall_s, const FrameImage& image) {
   FrameStats fs;
   fs.frame = frame;
   fs.wall_s = wall_s;
-  static_cast<hw::FrameFigures&>(fs) = run;
+  static_cast<timing::FrameFigures&>(fs) = run;
   fs.image_hash = image.hash();
   fs.frame_time_s = static_cast<double>(run.makespan) * job.arch.cycle_ns() * 1e-9;
-  if (job.arch.iu.model == IuModel::pipelined) fs.pipeline = hw::pipeline_config(job.arch);
+  if (job.arch.iu.model == IuModel::pipelined) fs.pipeline = timing::pipeline_config(job.arch);
   if (job.arch.replicate) {
     std::vector<std::uint64_t> bytes;
     for (std::uint32_t s = 0; s < geometry.sphere_count(); ++s) bytes.push_back(geometry.memory_bytes(s));
@@ -27,20 +27,20 @@ FrameStats frame_stats(const hw::FrameRun& run, const RenderJob& job, const Scen
   fs.sphere_entries.assign(geometry.sphere_count(), {});
   for (int k = 0; k < kRayKinds; ++k)
     for (std::uint32_t s = 0; s < geometry.sphere_count(); ++s) {
-      fs.sphere_cycles[s] += hw::work_cycles(run.per_sphere[k][s], job.arch.costs, job.arch.kernel).busy();
+      fs.sphere_cycles[s] += timing::work_cycles(run.per_sphere[k][s], job.arch.costs, job.arch.kernel).busy();
       fs.sphere_entries[s][k] += run.per_sphere[k][s].transforms;
     }
   for (std::size_t u = 0; u < run.units.size(); ++u) {
-    const hw::UnitRun& r = run.units[u];
+    const timing::UnitRun& r = run.units[u];
     UnitFrameStats us;
-    static_cast<hw::UnitRun&>(us) = r;
+    static_cast<timing::UnitRun&>(us) = r;
     us.id = static_cast<int>(u);
     us.spheres = job.assignment.unit[u];
     for (std::uint32_t s : us.spheres) us.primitives += geometry.triangles_in(s);
     // Pipelined: idle while it holds no ray (its stall overlaps the stages' work).
     const std::uint64_t used = r.pipeline ? r.pipeline->occupied : r.cycles.busy() + r.cycles.stall;
     us.idle = fs.makespan > used ? fs.makespan - used : 0;
-    us.config_bytes = us.spheres.size() * hw::Bytes<T>::sphere_config;
+    us.config_bytes = us.spheres.size() * timing::Bytes<T>::sphere_config;
     for (std::uint32_t s : us.spheres) us.memory_capacity_bytes += geometry.memory_bytes(s);
     fs.units.push_back(std::move(us));
   }
@@ -68,9 +68,9 @@ void finish_frame(RenderJob& job, StatsWriter* stats, const FrameStats& fs, Fram
   ++job.completed;
 }
 
-template FrameStats frame_stats(const hw::FrameRun&, const RenderJob&, const SceneGeometry<float>&, int, double,
+template FrameStats frame_stats(const timing::FrameRun&, const RenderJob&, const SceneGeometry<float>&, int, double,
                                 const FrameImage&);
-template FrameStats frame_stats(const hw::FrameRun&, const RenderJob&, const SceneGeometry<double>&, int, double,
+template FrameStats frame_stats(const timing::FrameRun&, const RenderJob&, const SceneGeometry<double>&, int, double,
                                 const FrameImage&);
 
 }  // namespace oprt

@@ -21,7 +21,7 @@ PolicyDriver<T>::PolicyDriver(const Scene& scene, const SceneGeometry<T>& g, con
 
 template <typename T>
 Assignment PolicyDriver<T>::with_copies(const Assignment& partition, const std::vector<double>& weight,
-                                       const hw::FrameRun* previous) const {
+                                       const timing::FrameRun* previous) const {
   if (!arch_.replicate) return partition;
   ReplicateInputs in;
   in.weight = weight;
@@ -48,7 +48,7 @@ Assignment PolicyDriver<T>::with_copies(const Assignment& partition, const std::
   }
   if (previous && !previous->sphere_slices.empty()) {
     // The GPP's issue time in the frame before: its router's and its own per-ray cycles.
-    in.slices = hw::kWorkSlices;
+    in.slices = timing::kWorkSlices;
     measured_weights(*previous, &in.weight_slices);
     in.issue = static_cast<double>(previous->route.cycles) +
                static_cast<double>(previous->total_rays()) * arch_.gpp.cycles_per_ray;
@@ -57,12 +57,12 @@ Assignment PolicyDriver<T>::with_copies(const Assignment& partition, const std::
 }
 
 template <typename T>
-std::vector<double> PolicyDriver<T>::measured_weights(const hw::FrameRun& previous, std::vector<double>* slices) const {
-  const std::size_t spheres = geom_.sphere_count(), S = hw::kWorkSlices;
+std::vector<double> PolicyDriver<T>::measured_weights(const timing::FrameRun& previous, std::vector<double>* slices) const {
+  const std::size_t spheres = geom_.sphere_count(), S = timing::kWorkSlices;
   std::vector<double> w(spheres, 0), reached(spheres, 0);
   for (int k = 0; k < kRayKinds; ++k)
     for (std::uint32_t s = 0; s < spheres; ++s) {
-      w[s] += static_cast<double>(hw::work_cycles(previous.per_sphere[k][s], arch_.costs, arch_.kernel).busy());
+      w[s] += static_cast<double>(timing::work_cycles(previous.per_sphere[k][s], arch_.costs, arch_.kernel).busy());
       reached[s] += static_cast<double>(previous.per_sphere[k][s].sphere_tests);
     }
   if (slices) {
@@ -93,7 +93,7 @@ std::vector<double> PolicyDriver<T>::measured_weights(const hw::FrameRun& previo
 }
 
 template <typename T>
-const Assignment& PolicyDriver<T>::for_frame(int f, const hw::FrameRun* previous) {
+const Assignment& PolicyDriver<T>::for_frame(int f, const timing::FrameRun* previous) {
   if (!dynamic()) return current_;
   std::vector<double> w;
   if (arch_.balance == "feedback") {

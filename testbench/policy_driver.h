@@ -35,7 +35,7 @@ class PolicyDriver {
   PolicyDriver(const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch, Assignment initial, int width,
                int height);
   // The assignment for frame f; `previous` is the frame before's run (null for the first).
-  const Assignment& for_frame(int f, const hw::FrameRun* previous);
+  const Assignment& for_frame(int f, const timing::FrameRun* previous);
   // The run's first assignment: `initial` with copies under --replicate.
   const Assignment& current() const { return current_; }
   bool dynamic() const { return arch_.balance == "feedback" || arch_.balance == "view"; }
@@ -47,8 +47,8 @@ class PolicyDriver {
   Assignment partition_, current_;  // current_: partition_ with its copies
   std::vector<std::uint64_t> bytes_;
   Assignment with_copies(const Assignment& partition, const std::vector<double>& weight,
-                         const hw::FrameRun* previous = nullptr) const;
-  std::vector<double> measured_weights(const hw::FrameRun& previous, std::vector<double>* slices = nullptr) const;
+                         const timing::FrameRun* previous = nullptr) const;
+  std::vector<double> measured_weights(const timing::FrameRun& previous, std::vector<double>* slices = nullptr) const;
   int width_, height_;
 };
 

@@ -244,12 +244,12 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared&
   job.cost = std::make_shared<RunCost>(o.tech, job.arch, units, spheres.size());
   job.header.update(job.cost->header());
   if (job.arch.iu.model == IuModel::pipelined) {  // each unit's schedule: its II and latency
-    const hw::PipelineSchedules p = hw::pipeline_schedules(job.arch);
+    const timing::PipelineSchedules p = timing::pipeline_schedules(job.arch);
     nlohmann::json stages = nlohmann::json::object();
-    for (int s = 0; s < hw::kPipeStages; ++s) {
+    for (int s = 0; s < timing::kPipeStages; ++s) {
       if (!p.used[s]) continue;
-      const FpUnits u = hw::stage_units(job.arch, static_cast<hw::PipeStage>(s), *p.stage[s].graph);
-      stages[hw::to_string(static_cast<hw::PipeStage>(s))] = {
+      const FpUnits u = timing::stage_units(job.arch, static_cast<timing::PipeStage>(s), *p.stage[s].graph);
+      stages[timing::to_string(static_cast<timing::PipeStage>(s))] = {
           {"ii", p.stage[s].ii}, {"latency", p.stage[s].length()}, {"adders", u.adders}, {"multipliers", u.multipliers}};
     }
     job.header["iu_stages"] = stages;

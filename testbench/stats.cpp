@@ -54,13 +54,13 @@ namespace {
 // holds rays but none has an operation for it) and idle (the IU holds no ray), which add up
 // to the makespan; then the rays' waits (for a free slot, for object memory, for the bus)
 // and the traversal stack.
-nlohmann::json stages_json(const hw::PipelineStats& p, const hw::PipelineConfig& c, std::uint64_t makespan) {
+nlohmann::json stages_json(const timing::PipelineStats& p, const timing::PipelineConfig& c, std::uint64_t makespan) {
   nlohmann::json stages = nlohmann::json::object();
   const std::uint64_t idle = makespan > p.occupied ? makespan - p.occupied : 0;
-  for (int s = 0; s < hw::kPipeStages; ++s) {
+  for (int s = 0; s < timing::kPipeStages; ++s) {
     if (!c.stage[s].used) continue;
-    const hw::StageCycles& st = p.stage[s];
-    stages[hw::to_string(static_cast<hw::PipeStage>(s))] = {{"ops", st.ops},
+    const timing::StageCycles& st = p.stage[s];
+    stages[timing::to_string(static_cast<timing::PipeStage>(s))] = {{"ops", st.ops},
                                                             {"busy", st.busy},
                                                             {"starved", p.occupied > st.busy ? p.occupied - st.busy : 0},
                                                             {"idle", idle},
@@ -92,10 +92,10 @@ nlohmann::json per_kind(const FrameStats& f, F&& value) {
 // What each kind of ray asked of the engine (timing/ray_figures.h), per ray, and the rays
 // per depth.
 nlohmann::json ray_kinds_json(const FrameStats& f) {
-  const hw::RayFigures& r = f.ray_figures;
+  const timing::RayFigures& r = f.ray_figures;
   const auto per = [](std::uint64_t x, std::uint64_t n) { return n ? static_cast<double>(x) / n : 0.0; };
   nlohmann::json j = per_kind(f, [&](int k) {
-    const hw::KindFigures& kf = r.kind[k];
+    const timing::KindFigures& kf = r.kind[k];
     return nlohmann::json{{"rays", kf.rays},
                           {"fanout_mean", per(kf.unit_writes, kf.rays)},
                           {"ray_bytes_per_ray", per(kf.ray_bytes, kf.rays)},

@@ -26,7 +26,7 @@ namespace oprt {
 
 // A unit's figures (timing/unit_run.h UnitRun), and what the run adds: its place in the
 // assignment and its sizes.
-struct UnitFrameStats : hw::UnitRun {
+struct UnitFrameStats : timing::UnitRun {
   int id = 0;
   std::vector<std::uint32_t> spheres;
   std::uint64_t primitives = 0;
@@ -40,7 +40,7 @@ struct UnitFrameStats : hw::UnitRun {
 };
 
 // A frame's figures (timing/unit_run.h FrameFigures), and what the run adds.
-struct FrameStats : hw::FrameFigures {
+struct FrameStats : timing::FrameFigures {
   int frame = 0;
   double wall_s = 0;
   // --replicate: the copies (sphere, its units) and the bytes the copies beyond the first take.
@@ -54,7 +54,7 @@ struct FrameStats : hw::FrameFigures {
   double frame_time_s = 0;      // the makespan at the architecture's clock
   std::optional<Cost> energy;   // with a technology table (--tech)
   // Pipelined units: per stage its initiation interval and latency (the same for every unit).
-  std::optional<hw::PipelineConfig> pipeline;
+  std::optional<timing::PipelineConfig> pipeline;
 
   std::uint64_t busy() const;
   double fanout_mean() const;

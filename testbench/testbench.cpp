@@ -18,8 +18,8 @@ using namespace sc_core;
 
 namespace {
 
-hw::FrameCommand frame_command(const RenderJob& job, int f, FrameImage& image) {
-  hw::FrameCommand cmd;
+timing::FrameCommand frame_command(const RenderJob& job, int f, FrameImage& image) {
+  timing::FrameCommand cmd;
   cmd.frame = f;
   cmd.to_world = object_matrices(*job.scene, f);
   cmd.camera = job.scene->camera->at(f);
@@ -81,7 +81,7 @@ class Testbench : public sc_module {
         set_up = true;
       }
       FrameImage image(job_.width, job_.height);
-      hw::FrameCommand cmd = frame_command(job_, f, image);
+      timing::FrameCommand cmd = frame_command(job_, f, image);
       const TraceSelection& sel = job_.trace;
       if (sel.frames && f == sel.frames->first)
         set_trace_window(std::max<std::uint64_t>(sel.from_ps, sc_time_stamp().value()), sel.to_ps);
@@ -182,26 +182,26 @@ class Testbench : public sc_module {
   }
 
   // The frame as the modules counted it.
-  hw::FrameRun collect() {
+  timing::FrameRun collect() {
     const sc_time cycle(job_.arch.cycle_ns(), SC_NS);
     const hw::GppStats& g = engine_->gpp().stats();
-    hw::FrameRun run;
-    static_cast<hw::GppFigures&>(run) = g;
+    timing::FrameRun run;
+    static_cast<timing::GppFigures&>(run) = g;
     run.makespan = static_cast<std::uint64_t>((g.end - g.start) / cycle + 0.5);
     run.bus_busy = engine_->bus().busy_cycles();
     run.bus_bytes = engine_->bus().bytes();
     run.bus_transfers = engine_->bus().transfers();
     const auto& f = engine_->functional();
     run.route.cycles = g.route_cycles;
-    hw::route_figures(f, engine_->units(), run.route);
-    hw::ray_figures(f, job_.arch, engine_->units(), g.waiting,
+    timing::route_figures(f, engine_->units(), run.route);
+    timing::ray_figures(f, job_.arch, engine_->units(), g.waiting,
                     [&](const sc_time& t) { return static_cast<std::uint64_t>(t / cycle + 0.5); }, run.ray_figures);
     for (std::size_t u = 0; u < engine_->units(); ++u) {
       const hw::UnitStats& s = engine_->unit(u).stats();
       const hw::ObjectMemory& m = engine_->memory(u);
       hw::RayFifo& fifo = engine_->fifo(u);
-      hw::UnitTimed t;
-      t.rays = hw::all_kinds(s.rays);
+      timing::UnitTimed t;
+      t.rays = timing::all_kinds(s.rays);
       t.bus_stall = s.bus_stall;
       t.cache = m.is_cache();
       t.memory = m.cache_counts();
@@ -212,7 +212,7 @@ class Testbench : public sc_module {
       t.fifo_peak = fifo.peak_occupancy();
       if (u < g.unit_memory_load_bytes.size()) t.memory_load_bytes = g.unit_memory_load_bytes[u];
       const auto unit = static_cast<std::uint32_t>(u);
-      hw::UnitRun r = hw::unit_run(f, unit, job_.assignment.unit[u], geometry_, job_.arch, t);
+      timing::UnitRun r = timing::unit_run(f, unit, job_.assignment.unit[u], geometry_, job_.arch, t);
       // What the modules did must be the work the trace holds: anything else is a fault in
       // the model's plumbing.
       if (!s.pipeline && s.charged != r.cycles.busy() + r.memory.stall)
@@ -221,7 +221,7 @@ class Testbench : public sc_module {
         SC_REPORT_FATAL("testbench", ("object memory " + std::to_string(u) + " was read other bytes than the work needs").c_str());
       run.units.push_back(r);
     }
-    hw::report_work(engine_->functional(), run);
+    timing::report_work(engine_->functional(), run);
     return run;
   }
 
@@ -246,18 +246,18 @@ class Testbench : public sc_module {
   std::unique_ptr<hw::Dram> memory_;  // behind the engine's memory port ("external")
   std::unique_ptr<StatsWriter> stats_;
   std::unique_ptr<PolicyDriver<T>> policy_;
-  std::optional<hw::FrameRun> previous_;
+  std::optional<timing::FrameRun> previous_;
 };
 
 // The analytic level: the same frames, no SystemC.
 template <typename T>
 void run_analytic(RenderJob& job, SceneGeometry<T>& geometry) {
   const bool deforming = has_deforming(*job.scene);
-  hw::AnalyticEngine<T> engine(*job.scene, geometry, job.arch);
+  timing::AnalyticEngine<T> engine(*job.scene, geometry, job.arch);
   PolicyDriver<T> policy(*job.scene, geometry, job.arch, job.assignment, job.width, job.height);
   std::unique_ptr<StatsWriter> stats;
   if (job.write_files) stats = std::make_unique<StatsWriter>(job.out_dir, job.header);
-  std::optional<hw::FrameRun> previous;
+  std::optional<timing::FrameRun> previous;
   for (int f = job.frames.first; f <= job.frames.last; ++f) {
     if (const int s = stop_signal())
       throw Interrupted(s, frames_completed(job.frames.first, job.frames.last, job.completed));
@@ -268,7 +268,7 @@ void run_analytic(RenderJob& job, SceneGeometry<T>& geometry) {
     if (f == job.frames.first) engine.setup();
     FrameImage image(job.width, job.height);
     previous = engine.run_frame(frame_command(job, f, image));
-    const hw::FrameRun& run = *previous;
+    const timing::FrameRun& run = *previous;
     const FrameStats fs = frame_stats(run, job, geometry, f, seconds_since(t0), image);
     finish_frame(job, stats.get(), fs, std::move(image));
   }

@@ -86,7 +86,7 @@ class Host : public sc_module {
  private:
   void run() {
     engine_.setup();  // load the object memories (no frame's time)
-    oprt::hw::FrameCommand cmd;
+    oprt::timing::FrameCommand cmd;
     cmd.frame = frame_;
     cmd.to_world = oprt::object_matrices(scene_, frame_);
     cmd.camera = scene_.camera->at(frame_);

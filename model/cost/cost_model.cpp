@@ -382,11 +382,11 @@ std::uint64_t object_memory_bytes(std::uint64_t triangles, std::uint64_t bvh_nod
 }
 
 std::uint64_t config_bytes(std::uint64_t spheres, bool double_precision) {
-  return spheres * (double_precision ? hw::Bytes<double>::sphere_config : hw::Bytes<float>::sphere_config);
+  return spheres * (double_precision ? timing::Bytes<double>::sphere_config : timing::Bytes<float>::sphere_config);
 }
 
 std::uint32_t ray_bytes(bool double_precision) {
-  return double_precision ? hw::Bytes<double>::ray : hw::Bytes<float>::ray;
+  return double_precision ? timing::Bytes<double>::ray : timing::Bytes<float>::ray;
 }
 
 }  // namespace oprt

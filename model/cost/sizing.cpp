@@ -11,7 +11,7 @@ namespace oprt {
 namespace {
 template <typename T>
 StoreBytes store_bytes_of() {
-  return {hw::Bytes<T>::ray, 6 * sizeof(T)};
+  return {timing::Bytes<T>::ray, 6 * sizeof(T)};
 }
 }  // namespace
 
@@ -24,7 +24,7 @@ Design initial_design(const Arch& arch, std::size_t units, std::size_t spheres) 
   const bool dbl = arch.precision == "double";
   design.units.resize(units);
   if (arch.routed()) {
-    const FpUnits r = hw::router_units(arch);
+    const FpUnits r = timing::router_units(arch);
     design.router_adders = r.adders * arch.route.lanes;
     design.router_multipliers = r.multipliers * arch.route.lanes;
     design.router_register_bytes = (arch.route.bound == "sphere" ? spheres : units) * 6 * (dbl ? 8 : 4);  // a box each
@@ -37,18 +37,18 @@ Design initial_design(const Arch& arch, std::size_t units, std::size_t spheres) 
     // registers, so each operation writes its result once (charged as one register-file
     // access: an over-estimate for a pipeline latch) and no register file holds operands.
     // The ray store and the traversal stacks are pipeline_buffers and traversal_stacks.
-    const hw::PipelineSchedules p = hw::pipeline_schedules(arch);
+    const timing::PipelineSchedules p = timing::pipeline_schedules(arch);
     IuUnits iu;
     iu.adders = iu.multipliers = 0;
     iu.register_files = 0;
     iu.register_accesses_per_op = 1;
-    for (int s = 0; s < hw::kPipeStages; ++s) {
+    for (int s = 0; s < timing::kPipeStages; ++s) {
       if (!p.used[s]) continue;
-      const auto stage = static_cast<hw::PipeStage>(s);
-      const FpUnits u = hw::stage_units(arch, stage, *p.stage[s].graph);
-      int& adders = stage == hw::PipeStage::box ? iu.box_adders : stage == hw::PipeStage::node ? iu.node_adders : iu.adders;
+      const auto stage = static_cast<timing::PipeStage>(s);
+      const FpUnits u = timing::stage_units(arch, stage, *p.stage[s].graph);
+      int& adders = stage == timing::PipeStage::box ? iu.box_adders : stage == timing::PipeStage::node ? iu.node_adders : iu.adders;
       int& multipliers =
-          stage == hw::PipeStage::box ? iu.box_multipliers : stage == hw::PipeStage::node ? iu.node_multipliers : iu.multipliers;
+          stage == timing::PipeStage::box ? iu.box_multipliers : stage == timing::PipeStage::node ? iu.node_multipliers : iu.multipliers;
       adders += u.adders;
       multipliers += u.multipliers;
     }
@@ -59,15 +59,15 @@ Design initial_design(const Arch& arch, std::size_t units, std::size_t spheres) 
 
 OpCounts iu_op_counts(const Arch& arch) {
   if (arch.iu.model != IuModel::pipelined) return op_counts(arch.kernel);
-  const hw::PipelineSchedules p = hw::pipeline_schedules(arch);
+  const timing::PipelineSchedules p = timing::pipeline_schedules(arch);
   return op_counts(arch.kernel, [&p](const OpGraph& g) {
-    for (int s = 0; s < hw::kPipeStages; ++s)
+    for (int s = 0; s < timing::kPipeStages; ++s)
       if (p.used[s] && p.stage[s].graph == &g) return p.stage[s];
     return list_schedule(g);  // the box set-up: part of the transform unit's graph
   });
 }
 
-void grow_unit(UnitSize& z, const Arch& arch, const hw::UnitRun& r, const UnitHolds& h) {
+void grow_unit(UnitSize& z, const Arch& arch, const timing::UnitRun& r, const UnitHolds& h) {
   const StoreBytes b = store_bytes(arch.precision == "double");
   // A memory that is a cache is memory.sram_bytes, whatever its spheres need.
   const std::uint64_t memory =
@@ -92,7 +92,7 @@ void grow_unit(UnitSize& z, const Arch& arch, const hw::UnitRun& r, const UnitHo
   }
 }
 
-UnitActivity unit_activity(const Arch& arch, const hw::UnitRun& r, const UnitHolds& h) {
+UnitActivity unit_activity(const Arch& arch, const timing::UnitRun& r, const UnitHolds& h) {
   const StoreBytes b = store_bytes(arch.precision == "double");
   UnitActivity a;
   for (int k = 0; k < kRayKinds; ++k) a.work += r.work[k];
@@ -107,7 +107,7 @@ UnitActivity unit_activity(const Arch& arch, const hw::UnitRun& r, const UnitHol
     a.miss_register_access_bytes = 2 * r.memory.misses * static_cast<std::uint64_t>(arch.memory.cache.line_bytes);
   }
   if (r.pipeline) {
-    const hw::PipelineStats& p = *r.pipeline;
+    const timing::PipelineStats& p = *r.pipeline;
     // Each ray written into the store; per job the ray read and its local copy written
     // and read. Each push written and read back; a spill or a fill one entry in object memory.
     a.buffer_access_bytes = r.rays * b.ray + p.jobs * (b.ray + 2 * b.local_ray);
@@ -118,7 +118,7 @@ UnitActivity unit_activity(const Arch& arch, const hw::UnitRun& r, const UnitHol
   return a;
 }
 
-FrameActivity frame_activity(const Arch& arch, const hw::FrameFigures& f, double frame_time_s) {
+FrameActivity frame_activity(const Arch& arch, const timing::FrameFigures& f, double frame_time_s) {
   FrameActivity act;
   act.bus_bytes = f.bus_bytes;
   if (arch.routed()) act.router_tests = f.total_rays() * f.route.bounds;

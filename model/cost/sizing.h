@@ -14,7 +14,7 @@
 
 namespace oprt {
 
-// What a pipelined IU's ray store holds per ray slot: the ray (hw::Bytes<T>::ray) and its
+// What a pipelined IU's ray store holds per ray slot: the ray (timing::Bytes<T>::ray) and its
 // local-frame copy (origin and direction); and each entry of its traversal stack (a node index).
 struct StoreBytes {
   std::uint64_t ray, local_ray;
@@ -43,15 +43,15 @@ struct UnitHolds {
 // memory (a cache: memory.sram_bytes at most), configuration registers, ray FIFO (its depth, or
 // unbounded as many entries as it ever held, one at least if a ray passed), a cache's miss
 // registers, a pipelined IU's ray store and traversal stacks.
-void grow_unit(UnitSize& z, const Arch& arch, const hw::UnitRun& r, const UnitHolds& h);
+void grow_unit(UnitSize& z, const Arch& arch, const timing::UnitRun& r, const UnitHolds& h);
 
 // What a unit did with those stores this frame: its work over every ray kind, object memory
 // reads and writes (a cache's fills, a pipelined IU's stack spills and fills), FIFO pushes and
 // pops, register writes, DRAM bytes, miss-register, ray-store and stack accesses.
-UnitActivity unit_activity(const Arch& arch, const hw::UnitRun& r, const UnitHolds& h);
+UnitActivity unit_activity(const Arch& arch, const timing::UnitRun& r, const UnitHolds& h);
 
 // The frame's activity outside the units (units left empty): bus bytes, the router's tests
 // (every ray against every bound), the frame's time.
-FrameActivity frame_activity(const Arch& arch, const hw::FrameFigures& f, double frame_time_s);
+FrameActivity frame_activity(const Arch& arch, const timing::FrameFigures& f, double frame_time_s);
 
 }  // namespace oprt

@@ -7,6 +7,8 @@
 
 namespace oprt::hw {
 
+using timing::bus_occupancy;
+
 using namespace sc_core;
 
 Bus::Bus(const sc_module_name& name, const Arch& arch, bool decoupled, VcdWriter* vcd, TimelineWriter* timeline)

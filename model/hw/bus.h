@@ -39,6 +39,8 @@
 
 namespace oprt::hw {
 
+using timing::Arbiter;
+
 class Bus : public sc_core::sc_module {
  public:
   tlm_utils::multi_passthrough_target_socket<Bus> in;      // from the GPP and the units

@@ -6,6 +6,8 @@
 
 namespace oprt::hw {
 
+using timing::dram_line_cycles;
+
 using namespace sc_core;
 
 Dram::Dram(const sc_module_name& name, const Arch& arch, std::size_t units, std::uint64_t base)

@@ -27,6 +27,8 @@
 
 namespace oprt::hw {
 
+using timing::Calendar;
+
 class Dram : public sc_core::sc_module {
  public:
   tlm_utils::multi_passthrough_target_socket<Dram> in;  // line fills

@@ -4,6 +4,8 @@
 
 namespace oprt::hw {
 
+using timing::fills_leave_memory;
+
 using namespace sc_core;
 
 template <typename T>

@@ -47,6 +47,8 @@
 
 namespace oprt::hw {
 
+using timing::FrameCommand, timing::FunctionalFrame;
+
 template <typename T>
 class Engine : public sc_core::sc_module {
  public:

@@ -32,6 +32,9 @@
 
 namespace oprt::hw {
 
+using timing::BurstConsumer, timing::Bytes, timing::Cycle, timing::FrameCommand, timing::MemoryLoad,
+    timing::RayRecord, timing::VisitStream;
+
 // Bus address map. Each unit i owns a window at iu_base + i * iu_stride.
 namespace addr {
 constexpr std::uint64_t gpp_hits = 0x0400'0000;        // answers from the units

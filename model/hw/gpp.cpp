@@ -7,6 +7,8 @@
 
 namespace oprt::hw {
 
+using timing::RayRecord, timing::issue_ray, timing::kWaveEnd, timing::retire_ray, timing::start_frame;
+
 using namespace sc_core;
 
 template <typename T>

@@ -39,6 +39,9 @@
 
 namespace oprt::hw {
 
+using timing::FrameCommand, timing::FunctionalFrame, timing::GppFigures, timing::GppPhase, timing::GppPlan,
+    timing::GppWork, timing::MemoryLoad, timing::RayWrites, timing::Waiting;
+
 // The frame's figures (timing/unit_run.h GppFigures: rays, geometry loaded and its wait, the
 // refit), and the times and counts only this module has.
 struct GppStats : GppFigures {

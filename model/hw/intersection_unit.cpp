@@ -2,6 +2,8 @@
 
 namespace oprt::hw {
 
+using timing::Bytes;
+
 using namespace sc_core;
 
 template <typename T>

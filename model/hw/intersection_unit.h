@@ -27,6 +27,9 @@
 
 namespace oprt::hw {
 
+using timing::BurstConsumer, timing::Cycle, timing::FunctionalFrame, timing::PipelineStats, timing::UnitRayWork,
+    timing::VisitStream;
+
 // What a unit measured in the frame, beside its work (the trace's).
 struct UnitStats {
   std::uint64_t charged = 0;    // serial: busy and memory stall, summed ray by ray

@@ -6,6 +6,8 @@
 
 namespace oprt::hw {
 
+using timing::fills_leave_memory;
+
 using namespace sc_core;
 
 ObjectMemory::ObjectMemory(const sc_module_name& name, int unit, const Arch& arch, std::size_t spheres,

@@ -28,6 +28,8 @@
 
 namespace oprt::hw {
 
+using timing::CacheCounts, timing::Cycle, timing::ObjectMemoryModel;
+
 class ObjectMemory : public sc_core::sc_module, private ObjectMemoryModel::Fill {
  public:
   tlm_utils::simple_target_socket<ObjectMemory> read;     // from its unit

@@ -2,6 +2,9 @@
 
 namespace oprt::hw {
 
+using timing::PipeStage, timing::PipelineConfig, timing::PipelineRay, timing::PipelineTrace, timing::UnitRayWork,
+    timing::kPipeStages, timing::pipeline_config, timing::to_string;
+
 using namespace sc_core;
 
 // A pipelined unit's waveform and timeline. Waveform: under the unit's `stage` scope (a

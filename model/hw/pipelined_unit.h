@@ -29,6 +29,9 @@
 
 namespace oprt::hw {
 
+using timing::BurstConsumer, timing::Cycle, timing::FunctionalFrame, timing::PipelineRayBuilder,
+    timing::PipelinedUnitTiming, timing::VisitReader, timing::VisitStream;
+
 template <typename T>
 class PipelinedUnit : public IntersectionUnit<T>, private VisitReader {
  public:

@@ -24,6 +24,8 @@
 
 namespace oprt::hw {
 
+using timing::CachedVisits, timing::FunctionalFrame, timing::GeometryAddresses, timing::UnitRayWork, timing::UnitState;
+
 template <typename T>
 class SerialUnit : public IntersectionUnit<T> {
  public:

@@ -5,7 +5,7 @@
 #include "timing/analytic_gpp.h"
 #include "timing/gpp_recipe.h"
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 template <typename T>
 AnalyticEngine<T>::AnalyticEngine(const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch)
@@ -93,4 +93,4 @@ void AnalyticEngine<T>::unit_figures(FrameRun& out, std::vector<UnitTimed>& time
 template class AnalyticEngine<float>;
 template class AnalyticEngine<double>;
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

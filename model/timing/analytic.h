@@ -23,7 +23,7 @@
 #include <memory>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 template <typename T>
 class AnalyticEngine {
@@ -53,4 +53,4 @@ class AnalyticEngine {
 extern template class AnalyticEngine<float>;
 extern template class AnalyticEngine<double>;
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

@@ -16,7 +16,7 @@
 #include <set>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 class AnalyticBus {
  public:
@@ -85,4 +85,4 @@ class AnalyticBus {
   std::uint64_t seq_ = 0;
 };
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

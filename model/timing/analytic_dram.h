@@ -13,7 +13,7 @@
 
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 class AnalyticDram {
  public:
@@ -55,4 +55,4 @@ class AnalyticDram {
   const Cycles line_cycles_;
 };
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

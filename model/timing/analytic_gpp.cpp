@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 template <typename T>
 void AnalyticGpp<T>::connect(const FunctionalFrame<T>& f, AnalyticFifos& fifos, AnalyticUnits<T>& units,
@@ -110,4 +110,4 @@ typename AnalyticGpp<T>::Cycles AnalyticGpp<T>::run() {
 template class AnalyticGpp<float>;
 template class AnalyticGpp<double>;
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

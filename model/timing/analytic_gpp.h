@@ -19,7 +19,7 @@
 #include <memory>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 template <typename T>
 class AnalyticGpp final : public AnswerSink {
@@ -70,4 +70,4 @@ class AnalyticGpp final : public AnswerSink {
 extern template class AnalyticGpp<float>;
 extern template class AnalyticGpp<double>;
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 template <typename T>
 AnalyticUnits<T>::AnalyticUnits(const FunctionalFrame<T>& f, const SceneGeometry<T>& g,
@@ -134,4 +134,4 @@ void AnalyticUnits<T>::grant_unit_until(std::uint32_t u, Cycles t) {
 template class AnalyticUnits<float>;
 template class AnalyticUnits<double>;
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

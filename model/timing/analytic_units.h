@@ -24,7 +24,7 @@
 #include <memory>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // Where the units' answers go once the bus has taken them: the GPP.
 class AnswerSink {
@@ -94,4 +94,4 @@ class AnalyticUnits {
 extern template class AnalyticUnits<float>;
 extern template class AnalyticUnits<double>;
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // Bytes per item as the hardware stores and moves them, in precision T.
 template <typename T>
@@ -64,4 +64,4 @@ struct FrameCommand {
   FrameImage* image = nullptr;           // filled in
 };
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 Cache::Cache(std::uint64_t capacity, std::uint32_t line_bytes, std::uint32_t ways, CacheReplacement r, std::uint64_t seed)
     : line_bytes_(line_bytes), ways_(ways), replacement_(r), rng_(seed * 0x9E3779B97F4A7C15ull + 1) {
@@ -64,4 +64,4 @@ std::uint64_t MissWindow::slot(std::uint64_t t) {
   return std::max(t, free);
 }
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // A set-associative tag store. Each line keeps the time its data is (or will be) there.
 class Cache {
@@ -142,4 +142,4 @@ struct CacheCounts {
   }
 };
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

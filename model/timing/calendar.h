@@ -10,7 +10,7 @@
 #include <iterator>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 template <typename Time>
 class Calendar {
@@ -111,4 +111,4 @@ class Arbiter {
   BusyUntil<Time> busy_until_;
 };
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

@@ -4,8 +4,8 @@
 
 #include <cstdint>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 using Cycle = std::int64_t;
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

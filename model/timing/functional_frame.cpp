@@ -12,7 +12,7 @@
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 namespace {
 
@@ -418,4 +418,4 @@ template void trace_functional(FunctionalFrame<double>&, const SceneGeometry<dou
                                const std::vector<IuRegisters<double>>&, const CameraRays&, const Shader<double>&,
                                const Arch&, int, int, bool, const RouteTable<double>*);
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

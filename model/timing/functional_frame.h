@@ -23,7 +23,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // One unit's work on one ray, when it entered at least one sphere.
 struct UnitRayWork {
@@ -235,4 +235,4 @@ extern template void trace_functional(FunctionalFrame<double>&, const SceneGeome
                                       const std::vector<IuRegisters<double>>&, const CameraRays&,
                                       const Shader<double>&, const Arch&, int, int, bool, const RouteTable<double>*);
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

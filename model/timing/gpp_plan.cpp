@@ -6,7 +6,7 @@
 
 #include <algorithm>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 FpUnits router_units(const Arch& a) {
   FpUnits u = full_units(box_graph(), a.iu.add_latency, a.iu.multiply_latency);
@@ -127,4 +127,4 @@ void GppPlan<T>::trace(FunctionalFrame<T>& out, const FrameCommand& cmd, bool tr
 template class GppPlan<float>;
 template class GppPlan<double>;
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

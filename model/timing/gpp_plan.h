@@ -34,7 +34,7 @@
 #include <utility>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // The GPP's router (--route): a box-test unit's adders and multipliers (route.adders,
 // route.multipliers; 0: enough for II 1).
@@ -56,7 +56,7 @@ class GppPlan {
   bool cached(std::size_t u) const { return u < cached_.size() && cached_[u]; }
   bool any_cached() const;
   // Bytes unit u's spheres occupy (triangles, and BVH nodes).
-  std::uint64_t assigned_bytes(std::size_t u) const { return hw::assigned_bytes(geom_, assignment_[u]); }
+  std::uint64_t assigned_bytes(std::size_t u) const { return timing::assigned_bytes(geom_, assignment_[u]); }
 
   // The frame's registers, and the GPP's refit of the units' trees.
   struct Config {
@@ -239,4 +239,4 @@ class GppWork {
 extern template class GppPlan<float>;
 extern template class GppPlan<double>;
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

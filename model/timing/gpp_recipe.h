@@ -21,7 +21,7 @@
 
 #include <cstdint>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // What the GPP spends its cycles on (the waveform and the timeline name them).
 enum class GppPhase { refit, generate, route, shade };
@@ -95,4 +95,4 @@ typename GppWork<T, Time>::Retired retire_ray(GppWork<T, Time>& work, const Arch
   return r;
 }
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

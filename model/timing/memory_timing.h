@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // What one sphere visit reads, and what the unit does with it.
 struct StreamCosts {
@@ -33,4 +33,4 @@ struct StreamCosts {
 // Returns the cycles the unit waited.
 std::uint64_t stream_stall(const StreamCosts& c, const std::uint8_t* items, std::uint32_t n);
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

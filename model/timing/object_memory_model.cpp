@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 namespace {
 Cycle ceil_div(Cycle a, Cycle b) { return (a + b - 1) / b; }
@@ -113,4 +113,4 @@ Cycle ObjectMemoryModel::visit(const VisitStream& v, Cycle request, BurstConsume
   return next;
 }
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

@@ -34,7 +34,7 @@
 #include <utility>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // What the GPP writes into one object memory at a frame's start (timing/gpp_plan.h).
 struct MemoryLoad {
@@ -116,4 +116,4 @@ class ObjectMemoryModel {
   std::vector<Cycle> arrive_, line_ready_;  // scratch: one burst's items' and lines' arrivals
 };
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

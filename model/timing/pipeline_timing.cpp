@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 const char* to_string(PipeStage s) {
   switch (s) {
@@ -247,4 +247,4 @@ template void count_stack_overflows(const SceneGeometry<float>&, const GeometryA
 template void count_stack_overflows(const SceneGeometry<double>&, const GeometryAddresses<double>&, int,
                                     VisitStream&);
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

@@ -66,7 +66,7 @@
 #include <set>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 enum class PipeStage : std::uint8_t { node = 0, sphere = 1, transform = 2, box = 3, triangle = 4 };
 constexpr int kPipeStages = 5;
@@ -213,9 +213,9 @@ inline UnitCycles pipelined_cycles(const PipelineStats& p) {
 template <typename T>
 void count_stack_overflows(const SceneGeometry<T>& g, const GeometryAddresses<T>& at, int depth, VisitStream& v);
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // A unit's work on a ray as its pipeline runs it: the trace's record, and each entered
 // sphere's reads in the order the unit makes them (brute force: one burst of the tested
@@ -275,4 +275,4 @@ class PipelineRayBuilder {
   PipelineRay ray_;
 };
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 struct KindFigures {
   std::uint64_t rays = 0;
@@ -60,4 +60,4 @@ void count_ray_figures(const FunctionalFrame<T>& f, const Arch& a, std::size_t u
   }
 }
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

@@ -21,7 +21,7 @@
 
 #include <stdexcept>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // The unit's costs inside a visit through its memory. `lead`: from the sphere hit (the first
 // burst's request) to the first test: the transform, and the box set-up with a BVH.
@@ -141,4 +141,4 @@ Cycle serial_ray(const FunctionalFrame<T>& f, std::uint32_t u, const UnitRayWork
   return t;
 }
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // The bus (hw/bus.h): a shared bus is held arbitration_cycles + ceil(bytes / bytes_per_cycle)
 // cycles by a transfer.
@@ -22,4 +22,4 @@ inline std::uint64_t dram_line_cycles(const Arch& a) {
   return (static_cast<std::uint64_t>(a.memory.cache.line_bytes) + width - 1) / width;
 }
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

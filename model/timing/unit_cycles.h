@@ -10,7 +10,7 @@
 
 #include <cstdint>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 struct UnitCycles {
   std::uint64_t sphere = 0, transform = 0, primitive = 0;  // busy
@@ -89,4 +89,4 @@ inline UnitCycles work_cycles(const WorkCounts& w, const CycleCosts& c, Kernel k
   return u;
 }
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

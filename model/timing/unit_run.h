@@ -20,7 +20,7 @@
 #include <optional>
 #include <vector>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // The sum over ray kinds of a per-kind figure.
 inline std::uint64_t all_kinds(const std::uint64_t (&per_kind)[kRayKinds]) {
@@ -148,4 +148,4 @@ UnitRun unit_run(const FunctionalFrame<T>& f, std::uint32_t u, const std::vector
   return r;
 }
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

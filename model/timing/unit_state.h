@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 enum class UnitState : std::uint8_t { idle = 0, sphere = 1, transform = 2, primitive = 3, stall = 4, box = 5, node = 6 };
 
@@ -13,4 +13,4 @@ inline const char* to_string(UnitState s) {
   return kName[static_cast<int>(s)];
 }
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

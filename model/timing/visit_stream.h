@@ -13,7 +13,7 @@
 
 #include <numeric>
 
-namespace oprt::hw {
+namespace oprt::timing {
 
 // DRAM addresses of the scene's geometry (cache.h): triangles from 0, nodes from node_base.
 template <typename T>
@@ -91,4 +91,4 @@ WorkCounts visit_stream(const SceneGeometry<T>& g, const IuRegisters<T>& regs, c
   return w;
 }
 
-}  // namespace oprt::hw
+}  // namespace oprt::timing

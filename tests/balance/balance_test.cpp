@@ -202,10 +202,10 @@ TEST_CASE("the image is the same under every policy and subdivision", "[balance]
       const SceneGeometry<float> g = build_geometry<float>(s, spheres);
       Arch arch;
       arch.ius = 7;
-      hw::AnalyticEngine<float> engine(s, g, arch);
+      timing::AnalyticEngine<float> engine(s, g, arch);
       engine.assign(static_assignment(policy, s, spheres, units_for(spheres.size(), 7)));
       FrameImage img(n, n);
-      hw::FrameCommand cmd;
+      timing::FrameCommand cmd;
       cmd.frame = 12;
       cmd.to_world = object_matrices(s, 12);
       cmd.camera = s.camera->at(12);

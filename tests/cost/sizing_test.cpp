@@ -12,7 +12,7 @@ TEST_CASE("sizing: a unit's object memory, registers and FIFO grow to their peak
   Arch a;
   a.fifo_depth = 4;
   UnitSize z;
-  hw::UnitRun r;
+  timing::UnitRun r;
   r.fifo_peak = 2;
   r.fifo_pushes = 5;
   grow_unit(z, a, r, UnitHolds{1000, 68});
@@ -49,7 +49,7 @@ TEST_CASE("sizing: a unit's object memory, registers and FIFO grow to their peak
 TEST_CASE("sizing: a unit that is a cache is memory.sram_bytes, with its miss registers", "[cost][sizing]") {
   Arch a;
   a.memory.sram_bytes = 4096;  // line 64 bytes, 4 misses outstanding by default
-  hw::UnitRun r;
+  timing::UnitRun r;
   r.cache = true;
   r.memory.misses = 10;
   r.memory.dram_bytes = 640;
@@ -74,10 +74,10 @@ TEST_CASE("sizing: a pipelined IU's ray store and traversal stacks, and what a f
   Arch a;
   a.iu.model = IuModel::pipelined;
   a.accel = "bvh";  // 16 rays in flight, stacks 16 deep by default
-  hw::UnitRun r;
+  timing::UnitRun r;
   r.rays = 10;
   r.fifo_pushes = r.fifo_pops = 10;
-  r.pipeline = hw::PipelineStats{};
+  r.pipeline = timing::PipelineStats{};
   r.pipeline->jobs = 7;
   r.pipeline->stack_pushes = 5;
   r.pipeline->stack_spills = 2;
@@ -129,7 +129,7 @@ TEST_CASE("sizing: the design's router and IU arithmetic, and the frame's router
   a.route.bound = "sphere";
   CHECK(initial_design(a, 3, 10).router_register_bytes == 10 * 6 * 4);  // a box per sphere
 
-  hw::FrameFigures f;
+  timing::FrameFigures f;
   f.rays[0] = 10;
   f.rays[1] = 5;
   f.route.bounds = 8;

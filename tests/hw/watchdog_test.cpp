@@ -22,7 +22,7 @@ using namespace sc_core;
 namespace {
 
 struct Miswired : sc_module {
-  hw::FunctionalFrame<float> frame;
+  timing::FunctionalFrame<float> frame;
   hw::Gpp<float> gpp;
   hw::Bus bus;
   hw::RayFifo fifo0, fifo1;
@@ -68,7 +68,7 @@ struct Miswired : sc_module {
     SC_THREAD(drive);
   }
 
-  void send(hw::FrameCommand& cmd) {
+  void send(timing::FrameCommand& cmd) {
     tlm::tlm_generic_payload p;
     unsigned char bytes[1] = {};
     hw::prepare<hw::FrameExtension>(p, tlm::TLM_WRITE_COMMAND, 0, bytes, 1).command = &cmd;
@@ -77,20 +77,20 @@ struct Miswired : sc_module {
   }
 
   void drive() {
-    hw::FrameCommand setup;
+    timing::FrameCommand setup;
     setup.setup_only = true;
     send(setup);
-    hw::FrameCommand cmd = frame_command();
+    timing::FrameCommand cmd = frame_command();
     send(cmd);
     frame_done = true;
   }
 
-  hw::FrameCommand frame_command();
+  timing::FrameCommand frame_command();
   const Scene* scene = nullptr;
 };
 
-hw::FrameCommand Miswired::frame_command() {
-  hw::FrameCommand cmd;
+timing::FrameCommand Miswired::frame_command() {
+  timing::FrameCommand cmd;
   cmd.frame = 0;
   cmd.to_world = object_matrices(*scene, 0);
   cmd.camera = scene->camera->at(0);

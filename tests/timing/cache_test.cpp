@@ -12,7 +12,7 @@
 #include <random>
 
 using namespace oprt;
-using namespace oprt::hw;
+using namespace oprt::timing;
 
 namespace {
 // Lines 0, 2, 4, ... share set 0 of a two-set, two-way cache of 64-byte lines.

@@ -4,9 +4,9 @@
 
 #include <catch2/catch.hpp>
 
-using oprt::hw::Arbiter;
-using oprt::hw::BusyUntil;
-using oprt::hw::Calendar;
+using oprt::timing::Arbiter;
+using oprt::timing::BusyUntil;
+using oprt::timing::Calendar;
 
 TEST_CASE("calendar: requests in time order are first come first served", "[calendar]") {
   Calendar<int> c;

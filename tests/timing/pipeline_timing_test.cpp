@@ -12,7 +12,7 @@
 #include <vector>
 
 using namespace oprt;
-using namespace oprt::hw;
+using namespace oprt::timing;
 
 namespace {
 // Node II 1 latency 5, sphere II 1 latency 3, transform II `t_ii` latency `t_lat`, box II 1
