@@ -7,6 +7,7 @@
 
 #include "arch/arch.h"
 #include "scene/numbers.h"
+#include "scene/scene.h"
 
 #include <cstdint>
 #include <string>
@@ -24,6 +25,9 @@ struct RunShape {
   std::uint64_t trace_changes = 0;  // --vcd: the writer's buffer (--trace-buffer); 0: no waveform
   bool timeline = false;
 };
+
+// The rays a pixel's tree holds (the depth bound resolved: -1 the scene's).
+std::uint64_t rays_per_pixel(const Scene& scene, int depth);
 
 // Bytes per vertex and per triangle of the scene, in every form the run keeps.
 std::uint64_t bytes_per_vertex(const RunShape& r);

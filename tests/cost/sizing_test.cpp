@@ -185,3 +185,20 @@ TEST_CASE("host memory: the estimate's parts, by hand", "[cost][memory]") {
   CHECK(memory_estimate(ref, 1000, 1).parts[1].bytes == 48000);
   CHECK(memory_estimate(r, ~std::uint64_t{0} / 2, 3).total() == ~std::uint64_t{0});
 }
+
+TEST_CASE("host memory: a pixel's rays grow by a bounce per depth only where a material reflects or transmits",
+          "[cost][memory]") {
+  Scene s;
+  s.lights.resize(2);
+  s.materials.resize(2);
+  CHECK(rays_per_pixel(s, -1) == 3);  // primary and two shadow rays: nothing reflects
+  CHECK(rays_per_pixel(s, 5) == 3);
+  s.materials[1].reflect = Vec3d(0.5);
+  CHECK(rays_per_pixel(s, -1) == 3 * 6);  // the scene's default depth, 5
+  CHECK(rays_per_pixel(s, 2) == 3 * 3);
+  CHECK(rays_per_pixel(s, 0) == 3);
+  s.materials[1].reflect = Vec3d(0);
+  s.materials[0].transmit = Vec3d(0, 0.2, 0);
+  s.depth = 1;
+  CHECK(rays_per_pixel(s, -1) == 3 * 2);
+}
