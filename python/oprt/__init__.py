@@ -7,7 +7,8 @@
 
 Modules, one purpose each:
 - oprt.paths: the repository's folders and the oprt binary a script uses by default;
-- oprt.render: running `oprt render` (and children that end with their parent);
+- oprt.render: running `oprt render` and `oprt reference` (and children that end with their parent);
+- oprt.rays: a frame's figures per ray kind (primary, shadow, reflection, refraction), work priced per kind;
 - oprt.stats: reading stats.json and stats.csv, and the correlation the result scripts print;
 - oprt.pareto: Pareto fronts and hypervolumes (minimised objectives);
 - oprt.slurm: Slurm array-job scripts;

@@ -1,4 +1,4 @@
-"""Running `oprt render`: one render to its stats, or a child process that ends with its parent.
+"""Running `oprt render` (and `oprt reference`): one render to its stats, or a child process that ends with its parent.
 
 A child started with `popen` (or with `preexec_fn=die_with_parent()`) asks Linux for a
 parent-death signal (prctl PR_SET_PDEATHSIG): when the process that started it ends, however it
@@ -50,19 +50,33 @@ def command(args, out, oprt=None):
     return [paths.oprt_binary(oprt), "render", *map(str, args), "--out", str(out), "--no-progress"]
 
 
-def render(args, out, oprt=None, who="oprt", timed=False):
-    """Runs `oprt render ARGS --out OUT --no-progress` and returns its stats.json as a dict
-    (with timed, the pair (stats, wall seconds)). On failure the script ends with a message
-    naming `who`, the command, its exit status and output."""
-    os.makedirs(out, exist_ok=True)
-    cmd = command(args, out, oprt)
+def run(cmd, who):
+    """Runs `cmd` and returns its wall seconds; on failure the script ends with a message naming
+    `who`, the command, its exit status and output."""
     t0 = time.perf_counter()
     r = subprocess.run(cmd, capture_output=True, text=True)
     wall = time.perf_counter() - t0
     if r.returncode != 0:
         sys.exit(f"{who}: {' '.join(cmd)} failed ({r.returncode}):\n{r.stdout}{r.stderr}")
+    return wall
+
+
+def render(args, out, oprt=None, who="oprt", timed=False):
+    """Runs `oprt render ARGS --out OUT --no-progress` and returns its stats.json as a dict
+    (with timed, the pair (stats, wall seconds)). On failure the script ends with a message
+    naming `who`, the command, its exit status and output."""
+    os.makedirs(out, exist_ok=True)
+    wall = run(command(args, out, oprt), who)
     stats = read_stats(out)
     return (stats, wall) if timed else stats
+
+
+def reference(args, out, oprt=None, who="oprt"):
+    """Runs `oprt reference ARGS --out OUT` (the untimed renderer: frame_NNNN.exr and .png) and
+    returns its reference.json as a dict; on failure ends the script as `render` does."""
+    os.makedirs(out, exist_ok=True)
+    run([paths.oprt_binary(oprt), "reference", *map(str, args), "--out", str(out)], who)
+    return read_stats(os.path.join(out, "reference.json"))
 
 
 def stop(proc, grace=10):

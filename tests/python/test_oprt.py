@@ -19,7 +19,7 @@ import unittest
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(REPO, "python"))
 
-from oprt import files, pareto, render, slurm, spec, stats, values  # noqa: E402
+from oprt import files, pareto, rays, render, slurm, spec, stats, values  # noqa: E402
 
 OPRT = os.environ.get("OPRT_BINARY")
 
@@ -263,6 +263,50 @@ class TestParentDeath(unittest.TestCase):
         self.assertEqual(r.stdout, "")
 
 
+class TestRayKinds(unittest.TestCase):
+    """oprt.rays on a hand-made frame: two units, three kinds with work, refraction without."""
+    ARCH = {"costs": {"sphere": 9, "transform": 19, "node": 13, "box": 13, "box_setup": 12, "triangle": [4, 14, 17, 22],
+                      "watertight": {"transform": 20, "triangle": [18, 20, 21, 27]}},
+            "kernel": "moller", "iu": {"model": "serial"}}
+    FRAME = {
+        "rays": {"primary": 4, "shadow": 3, "reflection": 1},
+        "ray_kinds": {"kinds": {
+            "primary": {"rays": 4, "ray_bytes_per_ray": 52.0, "answer_bytes_per_ray": 64.25, "fanout_mean": 2.0},
+            "shadow": {"rays": 3, "ray_bytes_per_ray": 52.0, "answer_bytes_per_ray": 32.0, "fanout_mean": 1.5},
+            "reflection": {"rays": 1, "ray_bytes_per_ray": 52.0, "answer_bytes_per_ray": 0.0, "fanout_mean": 0.0}}},
+        "ius": [{"work": {"primary": {"sphere_tests": 2, "transforms": 1, "node_tests": 3, "box_tests": 0, "box_setups": 1,
+                                      "triangle_exit_stage": [1, 0, 0, 2]},
+                          "shadow": {"sphere_tests": 1, "transforms": 1, "triangle_exit_stage": [0, 1, 0, 0]}}},
+                {"work": {"reflection": {"sphere_tests": 1, "box_tests": 2, "triangle_exit_stage": [0, 0, 1, 0]}}}],
+    }
+
+    def stats(self, **arch):
+        return {"arch": dict(self.ARCH, **arch)}
+
+    def test_rays_of_every_kind(self):
+        self.assertEqual(rays.rays(self.FRAME), {"primary": 4, "shadow": 3, "reflection": 1, "refraction": 0})
+
+    def test_bus_bytes_are_the_ray_and_its_answers(self):
+        # primary 52 + 64.25, shadow 52 + 32, reflection 52 + 0 (no unit answered), refraction: no ray
+        self.assertEqual(rays.bus_bytes_per_ray(self.FRAME),
+                         {"primary": 116.25, "shadow": 84.0, "reflection": 52.0, "refraction": None})
+        self.assertEqual(rays.cells(rays.bus_bytes_per_ray(self.FRAME), "{:.2f}"), "116.25 / 84.00 / 52.00 / -")
+
+    def test_work_priced_per_kind(self):
+        # primary: 2 spheres x 9 + 1 transform x 19 + 3 nodes x 13 + 1 box setup x 12 + exits det 4, t 2 x 22 = 136
+        # shadow: 9 + 19 + exit u 14 = 42; reflection (the other unit): 9 + 2 boxes x 13 + exit v 17 = 52
+        self.assertEqual(rays.work_cycles(self.stats(), self.FRAME),
+                         {"primary": 136, "shadow": 42, "reflection": 52, "refraction": 0})
+        # watertight: transform 20, exits 18/20/21/27: primary 18 + 20 + 39 + 12 + 18 + 54 = 161,
+        # shadow 9 + 20 + 20 = 49, reflection 9 + 26 + 21 = 56
+        self.assertEqual(rays.work_cycles(self.stats(kernel="watertight"), self.FRAME),
+                         {"primary": 161, "shadow": 49, "reflection": 56, "refraction": 0})
+
+    def test_pipelined_units_are_refused(self):
+        with self.assertRaises(ValueError):
+            rays.work_cycles(self.stats(iu={"model": "pipelined"}), self.FRAME)
+
+
 @unittest.skipUnless(OPRT, "needs OPRT_BINARY (the real oprt)")
 class TestRender(unittest.TestCase):
     def setUp(self):
@@ -279,6 +323,15 @@ class TestRender(unittest.TestCase):
         rows = stats.read_stats_csv(out)
         self.assertEqual(len(rows), s["units"])  # one row per unit of the one frame
         self.assertEqual([r["busy"] for r in rows], [u["busy_cycles"] for u in s["frames"][0]["ius"]])
+
+    def test_reference_returns_its_figures(self):
+        out = os.path.join(self.dir, "ref")
+        r = render.reference([os.path.join(REPO, "scenes", "paper_room.json"), "--frames", "0", "--resolution", "8x8",
+                              "--depth", "0"], out, OPRT)
+        self.assertEqual(r["frames"][0]["depth"], 0)
+        self.assertEqual(r["frames"][0]["rays"]["primary"], 64)  # 8 x 8 pixels
+        self.assertEqual(rays.rays(r["frames"][0])["reflection"], 0)  # depth 0: primary and shadow rays only
+        self.assertTrue(os.path.isfile(os.path.join(out, "frame_0000.png")))
 
     def test_a_failed_render_ends_the_script_naming_it(self):
         with self.assertRaises(SystemExit) as e:
