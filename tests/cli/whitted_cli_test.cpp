@@ -127,6 +127,7 @@ TEST_CASE("whitted cli: the depth bound is --depth, else gpp.depth, else the sce
     const fs::path out = d / ("render" + std::to_string(i++));
     REQUIRE(run_oprt("render " + c.args + small + " --ius 3 --level analytic --no-progress --out " + out.string()).status ==
             0);
+    CHECK(stats(out)["arch"]["gpp"]["depth"] == c.depth);  // the bound, resolved
     const nlohmann::json f = stats(out)["frames"][0];
     CHECK(deepest(f["ray_kinds"]["by_depth"]) == c.depth);
     for (const char* kind : {"primary", "shadow", "reflection", "refraction"})
