@@ -64,7 +64,8 @@ void print_normals_and_materials(const Scene& scene) {
     reflective += scene.materials[m].reflects();
     transmissive += scene.materials[m].transmits();
   }
-  std::printf("materials   %zu used, %zu reflective, %zu transmissive (reflection and refraction rays to depth %d)\n",
+  std::printf("materials   %zu used, %zu reflective, %zu transmissive (reflection and refraction rays to depth %d, "
+              "the scene's bound)\n",
               in_use, reflective, transmissive, scene.depth);
   if (reflective + transmissive == 0) return;
   std::printf("%10s  %-28s %26s %26s %8s\n", "material", "name", "reflect", "transmit", "ior");

@@ -550,8 +550,8 @@ TEST_CASE("cli: info lists the reflective and transmissive materials and the ver
   CHECK(r.status == 0);
   CHECK(r.output.find("normals     1 of 2 triangles carry vertex normals (interpolated for shading)") !=
         std::string::npos);
-  CHECK(r.output.find("materials   2 used, 1 reflective, 1 transmissive (reflection and refraction rays to depth 5)") !=
-        std::string::npos);
+  CHECK(r.output.find("materials   2 used, 1 reflective, 1 transmissive (reflection and refraction rays to depth 5, "
+                      "the scene's bound)") != std::string::npos);
   CHECK(r.output.find("not yet traced") == std::string::npos);
   CHECK(r.output.find("(   0.3,    0.3,    0.3) (   0.5,    0.5,    0.5)      1.5") != std::string::npos);
 
