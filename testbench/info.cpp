@@ -48,13 +48,12 @@ void print_assignment(const Arch& arch, const Scene& scene, const std::vector<Sp
                 scene_area > 0 ? q.unit_bound[u].surface_area() / scene_area : 1.0);
 }
 
-// The vertex normals and the Whitted terms the file published (scene.h): loaded, not yet
-// traced or interpolated (issue 29).
+// The vertex normals and the Whitted terms the file published (scene.h): the normals are
+// interpolated for shading, the terms traced as reflection and refraction rays (ref/shading.h).
 void print_normals_and_materials(const Scene& scene) {
   std::size_t with_normals = 0;
   for (const Object& o : scene.objects) with_normals += o.mesh.triangles_with_normals();
-  std::printf("normals     %zu of %zu triangles carry vertex normals (shading still flat: interpolated with the "
-              "reflection and refraction rays, issue 29)\n",
+  std::printf("normals     %zu of %zu triangles carry vertex normals (interpolated for shading)\n",
               with_normals, scene.triangle_count());
   std::vector<bool> used(scene.materials.size(), false);
   for (const Object& o : scene.objects) used[o.material] = true;
@@ -65,8 +64,9 @@ void print_normals_and_materials(const Scene& scene) {
     reflective += scene.materials[m].reflects();
     transmissive += scene.materials[m].transmits();
   }
-  std::printf("materials   %zu used, %zu reflective, %zu transmissive (loaded, not yet traced: issue 29)\n", in_use,
-              reflective, transmissive);
+  std::printf("materials   %zu used, %zu reflective, %zu transmissive (reflection and refraction rays to depth %d, "
+              "the scene's bound)\n",
+              in_use, reflective, transmissive, scene.depth);
   if (reflective + transmissive == 0) return;
   std::printf("%10s  %-28s %26s %26s %8s\n", "material", "name", "reflect", "transmit", "ior");
   for (std::size_t m = 0; m < scene.materials.size(); ++m) {

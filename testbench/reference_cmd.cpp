@@ -94,10 +94,18 @@ int reference(const CommonOptions& o, const Scene& scene, const OutputPlan& outp
       }
       per_object.push_back(std::move(o));
     }
+    nlohmann::json by_depth = nlohmann::json::array();  // as render's ray_kinds.by_depth
+    for (std::size_t d = 0; d < r.work.by_depth.size(); ++d) {
+      nlohmann::json row = {{"depth", d}};
+      for (int k = 0; k < kRayKinds; ++k)
+        if (k < 2 || r.work.rays[k]) row[kRayKindNames[k]] = r.work.by_depth[d][k];
+      by_depth.push_back(std::move(row));
+    }
     log.add({{"frame", f},
              {"wall_s", wall},
              {"depth", o.depth.value_or(scene.depth)},
              {"rays", rays_json},
+             {"by_depth", by_depth},
              {"rays_per_s", rays / wall},
              {"work", work},
              {"objects", per_object}});

@@ -230,6 +230,8 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared&
                 {"depth", job.arch.gpp.depth >= 0 ? job.arch.gpp.depth : scene.depth},
                 {"arch", to_json(job.arch)},
                 {"threads", thread_count()}};
+  // The depth bound the frames are traced to, resolved: --depth, else gpp.depth, else the scene's.
+  job.header["arch"]["gpp"]["depth"] = job.arch.gpp.depth >= 0 ? job.arch.gpp.depth : scene.depth;
   job.cost = std::make_shared<RunCost>(o.tech, job.arch, units, spheres.size());
   job.header.update(job.cost->header());
   if (job.arch.iu.model == IuModel::pipelined) {  // each unit's schedule: its II and latency

@@ -25,6 +25,8 @@ WorkCounts FrameWork::total() const {
 FrameWork& FrameWork::operator+=(const FrameWork& o) {
   for (int k = 0; k < kRayKinds; ++k) {
     rays[k] += o.rays[k];
+    if (o.by_depth.size() > by_depth.size()) by_depth.resize(o.by_depth.size(), {});
+    for (std::size_t d = 0; d < o.by_depth.size(); ++d) by_depth[d][k] += o.by_depth[d][k];
     for (std::size_t s = 0; s < per_sphere[k].size(); ++s) per_sphere[k][s] += o.per_sphere[k][s];
   }
   return *this;
@@ -36,9 +38,12 @@ struct WorkRecorder {
   FrameWork* work;
   int kind = 0;
   template <typename Ray>
-  void begin_ray(const Ray&, RayKind k, std::size_t, int) {
+  void begin_ray(const Ray&, RayKind k, std::size_t, int depth) {
     kind = static_cast<int>(k);
     ++work->rays[kind];
+    const auto d = static_cast<std::size_t>(depth);
+    if (d >= work->by_depth.size()) work->by_depth.resize(d + 1, {});
+    ++work->by_depth[d][kind];
   }
   void begin_unit(std::uint32_t) {}
   void wave_end() {}

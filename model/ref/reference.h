@@ -17,6 +17,9 @@ struct FrameWork {
   // [ray kind][sphere]
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;
   std::array<std::uint64_t, kRayKinds> rays{};
+  // [depth][ray kind]: rays, up to the deepest a ray reached (a shadow ray counts at its
+  // hit's depth); the timed model's stats.json ray_kinds.by_depth in the same shape.
+  std::vector<std::array<std::uint64_t, kRayKinds>> by_depth;
 
   explicit FrameWork(std::size_t spheres = 0) {
     for (auto& v : per_sphere) v.assign(spheres, WorkCounts{});

@@ -597,8 +597,9 @@ class AffReader {
     if (warning_set_.insert(w).second) warnings_.push_back(w);
   }
   void note_normals() {
-    note("vertex normals read (oprt info counts the triangles that carry them); shading is still flat until "
-         "the reflection and refraction rays of issue 29 interpolate them");
+    note("vertex normals read (oprt info counts the triangles that carry them): interpolated for the lights' "
+         "terms and the reflected and refracted directions; the geometric normal decides which lights face a "
+         "surface");
   }
   void time_quirks(const std::string& file, int line, const std::string& list, const std::vector<double>& times,
                    const std::vector<int>& lines, bool steps);
@@ -889,8 +890,9 @@ void AffReader::light(Cursor& c, const Stmt& s, bool animated) {
 // I = Ia + kd sum(N.L) + ks S + kt T) the specular coefficient weights the reflected ray S and
 // T the refracted one. So reflect = the specular colour (fm) or Ks x white (f), transmit =
 // T x white, ior = the index of refraction (1 where T is 0: BART's files write 0 there, an
-// index nothing uses). No ray is traced with them yet: they are loaded for the recursion of
-// issue 29 and listed by `oprt info` (docs/aff.md, "Materials").
+// index nothing uses). Whitted's recursion (ref/shading.h) traces a reflection ray where
+// reflect is non-zero and a refraction ray where transmit is, to the depth bound (--depth,
+// default 5); `oprt info` lists them (docs/aff.md, "Materials").
 void AffReader::fill(Cursor& c, const Stmt& s, bool extended) {
   MaterialInfo mi;
   if (extended) {
@@ -914,8 +916,8 @@ void AffReader::fill(Cursor& c, const Stmt& s, bool extended) {
   mi.m.transmit = Vec3d(transmit);
   mi.m.ior = transmit != 0 ? ior : 1.0;
   if (mi.m.reflects() || transmit != 0)
-    note("materials' reflection (specular colour) and transmittance with index of refraction read; not yet traced "
-         "(no reflection or refraction rays: issue 29)");
+    note("materials' reflection (specular colour) and transmittance with index of refraction read: traced as "
+         "reflection and refraction rays to --depth (default 5); nested transparent media are not tracked");
   mi.m.name = std::filesystem::path(c.file()).filename().string() + ":" + std::to_string(s.line);
   current_material_ = static_cast<int>(add_material(mi));
 }

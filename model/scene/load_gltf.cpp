@@ -33,7 +33,7 @@
 //   diffuse = base (1 - metallic / 2), specular = mix(0.2, base, metallic) (1 - roughness),
 //   shininess = 2 / a^2 - 2 with a = roughness^2 (the Blinn-Phong <-> GGX correspondence),
 //   clamped to [1, 1000]. Primitives without a material get oprt's default material.
-//   Whitted terms (loaded, not yet traced): metallic 1 with roughness 0 is a mirror, reflect =
+//   Whitted terms (traced as reflection and refraction rays): metallic 1 with roughness 0 is a mirror, reflect =
 //   base; KHR_materials_transmission's transmissionFactor -> transmit; KHR_materials_ior's ior
 //   -> ior (default 1.5 for a transmitting material, glTF's dielectric index; 1 otherwise).
 //   Not mapped: textures, roughness between 0 and 1 (no glossy reflection), partial
@@ -1075,8 +1075,8 @@ Scene GltfReader::read() {
   }
   finish_lights_and_camera(s);
   if (normals_read_)
-    notes_.add("normals", "vertex normals (NORMAL) read (oprt info counts the triangles that carry them); shading "
-                          "is still flat until the reflection and refraction rays of issue 29 interpolate them");
+    notes_.add("normals", "vertex normals (NORMAL) read (oprt info counts the triangles that carry them): "
+                          "interpolated for the lights' terms and the reflected and refracted directions");
   s.notes = notes_.lines();
   validate_scene(s);
   return s;

@@ -81,8 +81,9 @@ using Tri = std::array<std::uint32_t, 3>;
 // OBJ give them: a vertex on a crease has one normal per side): corner k of triangle t has the
 // normal normals[normal_index[t][k]]. normal_index is empty when no triangle has normals, else
 // parallel to triangles, with kNoNormal in every corner of a triangle without normals (shaded
-// flat). Normals are unit length, in the same frame as the vertices. Shading is still flat:
-// they are kept for the shading and the reflected and refracted directions of issue 29.
+// flat). Normals are unit length, in the same frame as the vertices. Shading interpolates them
+// (ref/shading.h, SurfacePoint::shading) for the lights' terms and the reflected and refracted
+// directions; the geometric normal still decides which lights face the surface.
 constexpr std::uint32_t kNoNormal = 0xffffffffu;
 
 struct Mesh {

@@ -548,8 +548,11 @@ TEST_CASE("cli: info lists the reflective and transmissive materials and the ver
                                     "fm 0 0 0 0.5 0.5 0.5 0 0 0 1 0 0\np 3\n0 0 1\n1 0 1\n0 1 1\n";
   Result r = run_oprt("info " + (d / "glass.aff").string());
   CHECK(r.status == 0);
-  CHECK(r.output.find("normals     1 of 2 triangles carry vertex normals") != std::string::npos);
-  CHECK(r.output.find("materials   2 used, 1 reflective, 1 transmissive") != std::string::npos);
+  CHECK(r.output.find("normals     1 of 2 triangles carry vertex normals (interpolated for shading)") !=
+        std::string::npos);
+  CHECK(r.output.find("materials   2 used, 1 reflective, 1 transmissive (reflection and refraction rays to depth 5, "
+                      "the scene's bound)") != std::string::npos);
+  CHECK(r.output.find("not yet traced") == std::string::npos);
   CHECK(r.output.find("(   0.3,    0.3,    0.3) (   0.5,    0.5,    0.5)      1.5") != std::string::npos);
 
   const std::string head = R"({"format": "oprt-scene/1", "camera": {"eye": [0, 0, 5], "target": [0, 0, 0]},)";

@@ -322,6 +322,7 @@ TEST_CASE("aff: every construct loads with its known contents", "[aff]") {
 
   CHECK(has_note(s, "textures ignored"));
   CHECK(has_note(s, "vertex normals read"));
+  CHECK(has_note(s, "interpolated for the lights' terms"));
   CHECK(has_note(s, "spheres tessellated: 224 triangles"));
   CHECK(has_note(s, "cones tessellated"));
   // inner's visibility keys: hidden from t = 1, shown again from t = 2 (frame f is t = f).
@@ -715,7 +716,7 @@ TEST_CASE("aff: f and fm keep their reflection weight, transmittance and index",
   CHECK_FALSE(glass.reflects());
   CHECK(glass.transmit == Vec3d(0.9));
   CHECK(glass.ior == 1.33);
-  CHECK(has_note(s, "transmittance with index of refraction read; not yet traced"));
+  CHECK(has_note(s, "transmittance with index of refraction read: traced as reflection and refraction rays"));
 }
 
 TEST_CASE("aff: pp normals follow a non-uniform static scale by the inverse transpose", "[aff][normals]") {

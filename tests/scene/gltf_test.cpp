@@ -579,6 +579,7 @@ TEST_CASE("gltf: NORMAL is read per corner, made unit, in the mesh's own frame",
   CHECK(m.normals[m.normal_index[0][1]] == Vec3d(0.6, 0.8, 0));
   CHECK(m.normals[m.normal_index[0][2]] == Vec3d(0, 0, -1));
   CHECK(has_note(s, "vertex normals (NORMAL) read"));
+  CHECK(has_note(s, "interpolated for the lights' terms"));
 }
 
 TEST_CASE("gltf: bad transmission, ior and NORMAL name their JSON path", "[gltf][materials][errors]") {
