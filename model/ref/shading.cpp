@@ -52,12 +52,33 @@ Vec3d offset_origin(Kernel kernel, const Vec3d& p, const Vec3d& n, const Vec3d& 
   // those magnitudes, in local units; the largest stretch of to_world turns that into world
   // units. A further few ulps of |p| cover rounding the origin itself to T. The factor 16
   // is the safety the count of roundings (at most 8 in any chain above) asks for, doubled.
+  //
+  // That bound is isotropic: it charges every local axis the largest magnitude and stretches
+  // the result by to_world's largest stretch. Under an anisotropic map (an object scaled by
+  // 1, 1e-2, 1e2) both maxima come from different axes, and the bound exceeds the error by
+  // the map's condition number: in float it pushed refraction origins through a slab 1e4
+  // times thinner than the offset (tests/numerics, "glass sphere": overshoots). The same
+  // roundings bounded per axis: local coordinate i errs by at most 16 eps e_i, e_i =
+  // sum_j |L^-1_ij| |o_j| + |t^-1_i| + the vertex magnitudes; that error vector, carried by
+  // to_world's linear part M, moves the point along the world normal n by at most
+  // sum_k |n_k| sum_i |M_ki| e_i (and rounding o to T by sum_k |n_k| |o_k|). Both are bounds
+  // on the same error, so the smaller one is kept (for a rigid map they are within a factor
+  // of 3 of each other, and the isotropic one usually wins: images unchanged).
   const double eps = std::numeric_limits<T>::epsilon();
+  const double vertex_mag = std::max({max_abs_component(v0), max_abs_component(v1), max_abs_component(v2)}) +
+                            std::max(max_abs_component(v1 - v0), max_abs_component(v2 - v0));
   const double local_mag = row_sum_norm(pl.to_local) * max_abs_component(p) +
-                           max_abs_component(pl.to_local.translation()) +
-                           std::max({max_abs_component(v0), max_abs_component(v1), max_abs_component(v2)}) +
-                           std::max(max_abs_component(v1 - v0), max_abs_component(v2 - v0));
-  double d = 16 * eps * (max_stretch(pl.to_world) * local_mag + max_abs_component(p));
+                           max_abs_component(pl.to_local.translation()) + vertex_mag;
+  const double isotropic = max_stretch(pl.to_world) * local_mag + max_abs_component(p);
+  double e[3];
+  for (int i = 0; i < 3; ++i)
+    e[i] = std::fabs(pl.to_local.m[i][0] * p.x) + std::fabs(pl.to_local.m[i][1] * p.y) +
+           std::fabs(pl.to_local.m[i][2] * p.z) + std::fabs(pl.to_local.m[i][3]) + vertex_mag;
+  double per_axis = 0;
+  for (int k = 0; k < 3; ++k)
+    per_axis += std::fabs(n[k]) * (std::fabs(pl.to_world.m[k][0]) * e[0] + std::fabs(pl.to_world.m[k][1]) * e[1] +
+                                   std::fabs(pl.to_world.m[k][2]) * e[2] + std::fabs(p[k]));
+  double d = 16 * eps * std::min(isotropic, per_axis);
   if (kernel == Kernel::watertight) {
     // The watertight test computes t = T / D from edge functions whose rounding errors do
     // not cancel against the plane distance as Moller's (o' - v0).n does: for a sliver or a
