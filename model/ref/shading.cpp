@@ -36,8 +36,21 @@ double watertight_t_error(const Vec3d& o, const Vec3d& d, const Vec3d& v0, const
   const double max_y = std::max({std::fabs(yt[0]), std::fabs(yt[1]), std::fabs(yt[2])});
   const double max_z = std::max({std::fabs(zt[0]), std::fabs(zt[1]), std::fabs(zt[2])});
   const double max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
+  // pbrt bounds the error of x' = a_x + sx a_z by gamma_5 (max |x'| + max |z'|), using |sx a_z|
+  // <= |a_z| <= |sz a_z| = |z'|, which holds for a unit direction. The local direction is not
+  // one (the local ray keeps the world parameter: under a map scaled by 1e3 it is 1e-3 long),
+  // and then |z'| = |a_z| / |d_z| exceeds |sx a_z| by 1 / |d|: for a long sliver seen along
+  // its length the bound, and with it the offset, grew 1e3-fold (tests/numerics, "closed
+  // meshes": origins pushed through the 0.1-thick cylinder scaled 1e3). The terms themselves,
+  // |sx a_z| and |sy a_z| (twice: |a_x| <= |x'| + |sx a_z|), bound the same rounding.
+  double max_sxz = 0, max_syz = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double az_i = (*v[i] - o)[kz];
+    max_sxz = std::max(max_sxz, std::fabs(sx * az_i));
+    max_syz = std::max(max_syz, std::fabs(sy * az_i));
+  }
   const double delta_z = gamma<T>(3) * max_z;
-  const double delta_x = gamma<T>(5) * (max_x + max_z), delta_y = gamma<T>(5) * (max_y + max_z);
+  const double delta_x = gamma<T>(5) * (max_x + 2 * max_sxz), delta_y = gamma<T>(5) * (max_y + 2 * max_syz);
   const double delta_e = 2 * (gamma<T>(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
   return 3 * (gamma<T>(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) / std::fabs(det);
 }

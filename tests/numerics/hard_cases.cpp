@@ -873,16 +873,24 @@ void judge_secondary(const TreeScene<T>& S, const TreeRay<T>& r, const HitRecord
     return;
   }
   // Going in (or staying inside). Where does the ray start? Its world origin (T) mapped to
-  // local in double: outside the mesh means the offset pushed it through to the far side
-  // (an overshoot: the ray then skips the surface it should leave by). Inside, but its
-  // T-rounded local origin (what the kernel sees) outside: the world -> local rounding
-  // carried it across another face near an edge (a crossing). Else the oracle's exit,
-  // judged where it lies clearly beyond rounding.
+  // local in double: outside the mesh by more than the origin's own rounding to T can place
+  // it (a few ulps of its coordinates, in local units) means the offset pushed it through to
+  // the far side (an overshoot: the ray then skips the surface it should leave by); within
+  // that rounding, nothing is judged. Inside, but its T-rounded local origin (what the
+  // kernel sees) outside: the world -> local rounding carried it across another face near
+  // an edge (a crossing). Else the oracle's exit, judged where it lies clearly beyond
+  // rounding.
   const Convex& cv = S.convex[r.object];
-  if (clearance(cv, S.f.placement[r.object].to_local.point(Vec3d(r.spawned.ray.o))) < 0) {
+  const Placement& pl = S.f.placement[r.object];
+  const Vec3d ow(r.spawned.ray.o);
+  const double exact = clearance(cv, pl.to_local.point(ow));
+  const double resolution =
+      4 * static_cast<double>(unit_roundoff<T>()) * max_abs_component(ow) * max_stretch(pl.to_local) + oracle_margin<T>(cv);
+  if (exact < -resolution) {
     ++out.overshoots;
     return;
   }
+  if (exact < resolution) return;
   if (clearance(cv, o) < 0) {
     ++out.crossings;
     return;

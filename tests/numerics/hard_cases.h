@@ -67,11 +67,12 @@ Outcome shadow_case_without_offset(Kernel k, bool dbl);
 //   outward, or, for a ray entering (or staying inside) a closed convex mesh, a hit before
 //   half the oracle's distance to where the ray leaves the mesh (double, never a kernel);
 // - an overshoot: a ray entering (or staying inside) a closed convex mesh whose origin lies
-//   outside it: the offset pushed the origin through to the far side (the ray then misses
-//   the surface it should leave by);
-// - a crossing: such a ray whose origin lies inside, within rounding of another face, and
-//   whose T-rounded local origin (what the kernel sees) lies outside it: the world -> local
-//   transform in T carried it across. Neither of these is judged further;
+//   outside it by more than the origin's own rounding to T: the offset pushed the origin
+//   through to the far side (the ray then misses the surface it should leave by); an origin
+//   within that rounding of the surface is not judged;
+// - a crossing: such a ray whose origin lies clearly inside, and whose T-rounded local
+//   origin (what the kernel sees) lies outside: the world -> local transform in T carried it
+//   across another face near an edge. Neither of these is judged further;
 // - a leak: a ray entering a closed convex mesh that hits nothing (Moller's cracks; the
 //   watertight kernel has none).
 // Shadow rays are judged by the "shadow rays" case above.
