@@ -41,7 +41,8 @@ double watertight_t_error(const Vec3d& o, const Vec3d& d, const Vec3d& v0, const
   // one (the local ray keeps the world parameter: under a map scaled by 1e3 it is 1e-3 long),
   // and then |z'| = |a_z| / |d_z| exceeds |sx a_z| by 1 / |d|: for a long sliver seen along
   // its length the bound, and with it the offset, grew 1e3-fold (tests/numerics, "closed
-  // meshes": origins pushed through the 0.1-thick cylinder scaled 1e3). The terms themselves,
+  // meshes": reflection origins pushed out through the thin cylinder, 0.1 across in its own
+  // coordinates, under the map scaled by 1e3). The terms themselves,
   // |sx a_z| and |sy a_z| (twice: |a_x| <= |x'| + |sx a_z|), bound the same rounding.
   double max_sxz = 0, max_syz = 0;
   for (int i = 0; i < 3; ++i) {
@@ -69,14 +70,15 @@ Vec3d offset_origin(Kernel kernel, const Vec3d& p, const Vec3d& n, const Vec3d& 
   // That bound is isotropic: it charges every local axis the largest magnitude and stretches
   // the result by to_world's largest stretch. Under an anisotropic map (an object scaled by
   // 1, 1e-2, 1e2) both maxima come from different axes, and the bound exceeds the error by
-  // the map's condition number: in float it pushed refraction origins through a slab 1e4
-  // times thinner than the offset (tests/numerics, "glass sphere": overshoots). The same
+  // up to the map's condition number (1e4): in float it pushed refraction origins out through
+  // the far side of the flattened sphere, and mirrors' origins past the mirror facing them
+  // (tests/numerics, "glass sphere", "facing mirrors": overshoots, lost bounces). The same
   // roundings bounded per axis: local coordinate i errs by at most 16 eps e_i, e_i =
   // sum_j |L^-1_ij| |o_j| + |t^-1_i| + the vertex magnitudes; that error vector, carried by
   // to_world's linear part M, moves the point along the world normal n by at most
   // sum_k |n_k| sum_i |M_ki| e_i (and rounding o to T by sum_k |n_k| |o_k|). Both are bounds
-  // on the same error, so the smaller one is kept (for a rigid map they are within a factor
-  // of 3 of each other, and the isotropic one usually wins: images unchanged).
+  // on the same error, so the smaller one is kept (for a rigid map they are within a small
+  // factor of each other, and shadow origins moved by ulps: golden images unchanged).
   const double eps = std::numeric_limits<T>::epsilon();
   const double vertex_mag = std::max({max_abs_component(v0), max_abs_component(v1), max_abs_component(v2)}) +
                             std::max(max_abs_component(v1 - v0), max_abs_component(v2 - v0));
