@@ -19,9 +19,16 @@
 // tracers are pure functions of const data). Each figure is the fastest of several runs,
 // each tracing the ray list often enough to last --min-run seconds: the machine is shared,
 // and the fastest run is the least disturbed. The CPU share column says how disturbed.
+//
+// Then (--depth N, default 5) the reflection and refraction rays: every pixel's ray tree as
+// the reference renderer traces it (ref/frame_trace.h's trace_pixel, one unit holding every
+// sphere, Shader at depth N), each secondary ray given to Embree too, their nearest hits
+// compared (object, triangle), ties at equal distances counted apart, and both tracers'
+// hits on the ray's own parent triangle (self-intersections) counted.
 #include "balance/spheres.h"
 #include "ref/camera.h"
 #include "ref/frame_setup.h"
+#include "ref/frame_trace.h"
 #include "ref/shading.h"
 #include "ref/traverse.h"
 #include "scene/error.h"
@@ -85,6 +92,74 @@ RaySet make_rays(const Scene& scene, const SceneGeometry<float>& g, const FrameS
         if (sr.kind == RayKind::shadow) rs.shadow.push_back(sr.ray);
     }
   return rs;
+}
+
+// The reference's reflection and refraction rays: every pixel's ray tree as the reference
+// renderer traces it (trace_pixel over one unit holding every sphere, the shader at the
+// given depth), recorded ray by ray: each secondary ray, oprt's nearest hit for it, and the
+// hit that spawned it (its parent's object and triangle).
+struct SecondarySet {
+  std::vector<Ray<float>> rays;
+  std::vector<RayKind> kind;
+  std::vector<HitRecord<float>> hit;                 // oprt's (the reference's) nearest hit
+  std::vector<std::uint32_t> parent_object, parent_prim;
+  std::uint64_t tree_rays[kRayKinds] = {};           // every ray of the trees, by kind
+};
+
+struct TreeRecorder {
+  SecondarySet* out;
+  // The current pixel's rays in trace_pixel's order (ids from 0), and each one's parent:
+  // a ray learns its children's ids when it ends, and they begin after it.
+  struct Entry {
+    Ray<float> ray;
+    RayKind kind;
+    HitRecord<float> hit;
+    std::uint32_t parent;
+  };
+  std::vector<Entry> pixel;
+  std::vector<std::uint32_t> parent_of;
+  void begin_ray(const Ray<float>& r, RayKind k, std::size_t, int) {
+    if (k == RayKind::primary) pixel.clear(), parent_of.clear();
+    const std::size_t id = pixel.size();
+    pixel.push_back({r, k, {}, id < parent_of.size() ? parent_of[id] : kNone});
+    ++out->tree_rays[static_cast<int>(k)];
+  }
+  void begin_unit(std::uint32_t) {}
+  void wave_end() {}
+  void skip(std::uint32_t) {}
+  void visit(const SphereVisit&) {}
+  template <typename Answer>
+  void end_unit(std::uint32_t, const Answer&) {}
+  void end_ray(const RayEnd<float>& end) {
+    const std::uint32_t i = static_cast<std::uint32_t>(pixel.size() - 1);
+    Entry& e = pixel[i];
+    e.hit = end.hit;
+    if (e.kind == RayKind::reflection || e.kind == RayKind::refraction) {
+      const Entry& parent = pixel.at(e.parent);
+      out->rays.push_back(e.ray);
+      out->kind.push_back(e.kind);
+      out->hit.push_back(e.hit);
+      out->parent_object.push_back(parent.hit.object);
+      out->parent_prim.push_back(parent.hit.prim);
+    }
+    if (parent_of.size() < i + end.first_child + end.children) parent_of.resize(i + end.first_child + end.children, kNone);
+    for (std::uint32_t c = 0; c < end.children; ++c) parent_of[i + end.first_child + c] = i;
+  }
+};
+
+SecondarySet make_secondary(const Scene& scene, const SceneGeometry<float>& g, const FrameSetup<float>& f, int width,
+                            int height, int depth) {
+  const CameraRays camera(f.camera, width, height);
+  const Shader<float> shader(scene, f, depth);
+  const std::vector<IuRegisters<float>> units(1, every_sphere(g, f));
+  const FrameTraceInputs<float> in{g, units, camera, shader};
+  FrameImage image(width, height);
+  PixelScratch<float> scratch;
+  SecondarySet set;
+  TreeRecorder rec{&set, {}, {}};
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) trace_pixel(in, x, y, image, rec, scratch);
+  return set;
 }
 
 // ------------------------------------------------------------------------------ Embree
@@ -298,6 +373,47 @@ Agreement compare_primary(const std::vector<HitRecord<float>>& o, const std::vec
   return a;
 }
 
+// Per reflection or refraction ray: the same (object, triangle), or both missing; else a tie:
+// both hit, at distances equal to within the kernels' error, bounded by 64 units in the last
+// place of float (2^-24) times |o| + t: either t carries the rounding of the ray's world ->
+// local transform (a few ulps of the origin's magnitude) and of its own arithmetic (a few
+// ulps of t), in both tracers; 64 is several times the roundings counted. Such a pair is two
+// surfaces meeting at the hit (a shared edge, coplanar or coincident faces) where each
+// tracer's rounding picks its own. Else a mismatch (`other`; `flag` marks them for --list).
+struct SecondaryAgreement {
+  std::size_t same = 0, tie = 0, other = 0, other_near_edge = 0;
+  std::size_t oprt_self = 0, embree_self = 0;  // nearest hit on the parent's own triangle
+};
+
+SecondaryAgreement compare_secondary(const SecondarySet& s, const std::vector<HitRecord<float>>& e,
+                                     std::vector<char>& flag) {
+  SecondaryAgreement a;
+  constexpr double kRoundoff = 1.0 / (1 << 24);
+  flag.assign(s.rays.size(), 0);
+  for (std::size_t i = 0; i < s.rays.size(); ++i) {
+    const HitRecord<float>& o = s.hit[i];
+    if (o.valid() && o.object == s.parent_object[i] && o.prim == s.parent_prim[i]) ++a.oprt_self;
+    if (e[i].valid() && e[i].object == s.parent_object[i] && e[i].prim == s.parent_prim[i]) ++a.embree_self;
+    if (o.valid() == e[i].valid() && (!o.valid() || (o.object == e[i].object && o.prim == e[i].prim))) {
+      ++a.same;
+      continue;
+    }
+    if (o.valid() && e[i].valid()) {
+      const double t = std::max(o.t, e[i].t);
+      const double tol = 64 * kRoundoff * (max_abs_component(Vec3d(s.rays[i].o)) + t);
+      if (std::fabs(static_cast<double>(o.t) - e[i].t) <= tol) {
+        ++a.tie;
+        continue;
+      }
+    }
+    ++a.other;
+    flag[i] = 1;
+    constexpr float kNear = 1e-4f;
+    if ((o.valid() && edge_distance(o) < kNear) || (e[i].valid() && edge_distance(e[i]) < kNear)) ++a.other_near_edge;
+  }
+  return a;
+}
+
 std::size_t count_differences(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
   std::size_t n = 0;
   for (std::size_t i = 0; i < a.size(); ++i) n += a[i] != b[i];
@@ -310,11 +426,13 @@ bool same_hits(const std::vector<HitRecord<float>>& a, const std::vector<HitReco
   return true;
 }
 
-// The first `count` primary rays on which the two disagree, with what a third opinion finds:
+// The first `count` rays on which the two disagree (primary rays by pixel; width 0: any rays,
+// by index and with the ray itself), with what a third opinion finds:
 // oprt's watertight kernel in double on the same (float) ray, the closest to exact at hand.
 void list_disagreements(const Scene& scene, const std::vector<SphereDef>& spheres, int frame,
                         const std::vector<Ray<float>>& rays, const std::vector<HitRecord<float>>& o,
-                        const std::vector<HitRecord<float>>& e, int width, int count) {
+                        const std::vector<HitRecord<float>>& e, int width, int count,
+                        const std::vector<char>* only = nullptr) {
   SceneGeometry<double> g = build_geometry<double>(scene, spheres, Kernel::watertight, Accel::bvh);
   if (has_deforming(scene)) update_deforming(g, scene, frame);
   const FrameSetup<double> f = setup_frame(scene, g, frame);
@@ -329,10 +447,13 @@ void list_disagreements(const Scene& scene, const std::vector<SphereDef>& sphere
   for (std::size_t i = 0; i < o.size() && count > 0; ++i) {
     if (o[i].valid() == e[i].valid() && (!o[i].valid() || (o[i].object == e[i].object && o[i].prim == e[i].prim)))
       continue;
+    if (only && !(*only)[i]) continue;
     --count;
     const Ray<double> r{Vec3d(rays[i].o), Vec3d(rays[i].d), kInf<double>};
     const HitRecord<double> w = trace_nearest(g, regs, r, kIgnoreWork);
-    std::printf("  pixel (%zu, %zu):\n", i % width, i / width);
+    if (width > 0) std::printf("  pixel (%zu, %zu):\n", i % width, i / width);
+    else std::printf("  ray %zu: origin (%.9g %.9g %.9g) direction (%.9g %.9g %.9g)\n", i, rays[i].o.x, rays[i].o.y,
+                     rays[i].o.z, rays[i].d.x, rays[i].d.y, rays[i].d.z);
     show("oprt (Moller, float)", o[i].object, o[i].prim, o[i].t, o[i].u, o[i].v);
     show("Embree", e[i].object, e[i].prim, e[i].t, e[i].u, e[i].v);
     show("oprt (watertight, double)", w.object, w.prim, w.t, w.u, w.v);
@@ -351,6 +472,7 @@ struct Options {
   std::string embree_config;
   bool robust = false;
   int list = 0;  // disagreeing primary rays to print
+  int depth = 5;  // the reflection and refraction rays' depth bound (0: none compared)
 };
 
 int run(const Options& o) {
@@ -442,8 +564,9 @@ int run(const Options& o) {
                 100 * r.cpu_share());
   }
 
-  // What oprt's BVH traversal does per ray (the work the IUs are charged for).
-  for (int k = 0; k < kRayKinds; ++k) {
+  // What oprt's BVH traversal does per ray (the work the IUs are charged for): primary and
+  // shadow (the secondary rays follow below).
+  for (int k = 0; k < 2; ++k) {
     const bool primary = k == static_cast<int>(RayKind::primary);
     const std::vector<Ray<float>>& list = primary ? rays.primary : rays.shadow;
     WorkCounts w;
@@ -461,6 +584,38 @@ int run(const Options& o) {
   std::printf("agreement, shadow rays: %zu of %zu answered differently (occluded or not)\n",
               count_differences(oprt_occ, embree_occ), rays.shadow.size());
   if (o.list > 0) list_disagreements(scene, spheres, o.frame, rays.primary, oprt_hits, embree_hits, width, o.list);
+  if (o.depth > 0) {
+    // The reference's reflection and refraction rays, each traced by Embree as well.
+    const SecondarySet sec = make_secondary(scene, bvh, fb, width, height, o.depth);
+    std::vector<HitRecord<float>> sec_embree;
+    trace_all(sec.rays, sec_embree, nullptr, embree_nearest);
+    std::vector<HitRecord<float>> sec_oprt;
+    trace_all(sec.rays, sec_oprt, nullptr, oprt_nearest);
+    if (!same_hits(sec_oprt, sec.hit)) throw std::logic_error("oprt's secondary hits differ from the ray trees'");
+    std::vector<char> flag;
+    const SecondaryAgreement s = compare_secondary(sec, sec_embree, flag);
+    std::size_t refl = 0;
+    for (RayKind k : sec.kind) refl += k == RayKind::reflection;
+    const double n = static_cast<double>(sec.rays.size());
+    std::printf("\nsecondary rays, depth %d: the reference's trees hold %llu primary, %llu shadow, %llu reflection, %llu "
+                "refraction rays\n",
+                o.depth, (unsigned long long)sec.tree_rays[0], (unsigned long long)sec.tree_rays[1],
+                (unsigned long long)sec.tree_rays[2], (unsigned long long)sec.tree_rays[3]);
+    std::printf("agreement, reflection and refraction rays: %zu of %zu (%zu reflection, %zu refraction) the same "
+                "(object, triangle) or both missing; differing: %zu ties (equal t within the kernels' error, %.4f %%), "
+                "%zu otherwise (%zu of them within 1e-4 of a triangle's edge)\n",
+                s.same, sec.rays.size(), refl, sec.rays.size() - refl, s.tie, n > 0 ? 100.0 * s.tie / n : 0.0, s.other,
+                s.other_near_edge);
+    std::printf("self-intersections (nearest hit on the parent's own triangle): oprt %zu, Embree %zu\n", s.oprt_self,
+                s.embree_self);
+    if (sec.rays.empty()) return 0;  // nothing reflects or transmits: nothing to time
+    const Timing te = fastest(o.budget, [&] { trace_all(sec.rays, sec_embree, nullptr, embree_nearest); });
+    const Timing to = fastest(o.budget, [&] { trace_all(sec.rays, sec_oprt, nullptr, oprt_nearest); });
+    std::printf("secondary rays on 1 thread: Embree %.2f M rays/s, oprt --accel bvh %.2f M rays/s (%.2fx Embree's time)\n",
+                n / te.wall / 1e6, n / to.wall / 1e6, to.wall / te.wall);
+    if (o.list > 0 && s.other > 0)
+      list_disagreements(scene, spheres, o.frame, sec.rays, sec.hit, sec_embree, 0, o.list, &flag);
+  }
   return 0;
 }
 
@@ -484,7 +639,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--embree-robust", o.robust, "RTC_SCENE_FLAG_ROBUST: Embree's watertight mode (slower)");
   app.add_option("--embree-config", o.embree_config, "rtcNewDevice's configuration (e.g. verbose=1 prints its ISA)");
-  app.add_option("--list", o.list, "print up to N primary rays on which the two disagree")->capture_default_str();
+  app.add_option("--list", o.list, "print up to N primary rays (and N secondary rays) on which the two disagree")
+      ->capture_default_str();
+  app.add_option("--depth", o.depth, "compare the reference's reflection and refraction rays to this depth (0: none)")
+      ->check(CLI::Range(0, oprt::kMaxDepth))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     return oprt::run(o);

@@ -36,8 +36,22 @@ double watertight_t_error(const Vec3d& o, const Vec3d& d, const Vec3d& v0, const
   const double max_y = std::max({std::fabs(yt[0]), std::fabs(yt[1]), std::fabs(yt[2])});
   const double max_z = std::max({std::fabs(zt[0]), std::fabs(zt[1]), std::fabs(zt[2])});
   const double max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
+  // pbrt bounds the error of x' = a_x + sx a_z by gamma_5 (max |x'| + max |z'|), using |sx a_z|
+  // <= |a_z| <= |sz a_z| = |z'|, which holds for a unit direction. The local direction is not
+  // one (the local ray keeps the world parameter: under a map scaled by 1e3 it is 1e-3 long),
+  // and then |z'| = |a_z| / |d_z| exceeds |sx a_z| by 1 / |d|: for a long sliver seen along
+  // its length the bound, and with it the offset, grew 1e3-fold (tests/numerics, "closed
+  // meshes": reflection origins pushed out through the thin cylinder, 0.1 across in its own
+  // coordinates, under the map scaled by 1e3). The terms themselves,
+  // |sx a_z| and |sy a_z| (twice: |a_x| <= |x'| + |sx a_z|), bound the same rounding.
+  double max_sxz = 0, max_syz = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double az_i = (*v[i] - o)[kz];
+    max_sxz = std::max(max_sxz, std::fabs(sx * az_i));
+    max_syz = std::max(max_syz, std::fabs(sy * az_i));
+  }
   const double delta_z = gamma<T>(3) * max_z;
-  const double delta_x = gamma<T>(5) * (max_x + max_z), delta_y = gamma<T>(5) * (max_y + max_z);
+  const double delta_x = gamma<T>(5) * (max_x + 2 * max_sxz), delta_y = gamma<T>(5) * (max_y + 2 * max_syz);
   const double delta_e = 2 * (gamma<T>(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
   return 3 * (gamma<T>(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) / std::fabs(det);
 }
@@ -52,12 +66,34 @@ Vec3d offset_origin(Kernel kernel, const Vec3d& p, const Vec3d& n, const Vec3d& 
   // those magnitudes, in local units; the largest stretch of to_world turns that into world
   // units. A further few ulps of |p| cover rounding the origin itself to T. The factor 16
   // is the safety the count of roundings (at most 8 in any chain above) asks for, doubled.
+  //
+  // That bound is isotropic: it charges every local axis the largest magnitude and stretches
+  // the result by to_world's largest stretch. Under an anisotropic map (an object scaled by
+  // 1, 1e-2, 1e2) both maxima come from different axes, and the bound exceeds the error by
+  // up to the map's condition number (1e4): in float it pushed refraction origins out through
+  // the far side of the flattened sphere, and mirrors' origins past the mirror facing them
+  // (tests/numerics, "glass sphere", "facing mirrors": overshoots, lost bounces). The same
+  // roundings bounded per axis: local coordinate i errs by at most 16 eps e_i, e_i =
+  // sum_j |L^-1_ij| |o_j| + |t^-1_i| + the vertex magnitudes; that error vector, carried by
+  // to_world's linear part M, moves the point along the world normal n by at most
+  // sum_k |n_k| sum_i |M_ki| e_i (and rounding o to T by sum_k |n_k| |o_k|). Both are bounds
+  // on the same error, so the smaller one is kept (for a rigid map they are within a small
+  // factor of each other, and shadow origins moved by ulps: golden images unchanged).
   const double eps = std::numeric_limits<T>::epsilon();
+  const double vertex_mag = std::max({max_abs_component(v0), max_abs_component(v1), max_abs_component(v2)}) +
+                            std::max(max_abs_component(v1 - v0), max_abs_component(v2 - v0));
   const double local_mag = row_sum_norm(pl.to_local) * max_abs_component(p) +
-                           max_abs_component(pl.to_local.translation()) +
-                           std::max({max_abs_component(v0), max_abs_component(v1), max_abs_component(v2)}) +
-                           std::max(max_abs_component(v1 - v0), max_abs_component(v2 - v0));
-  double d = 16 * eps * (max_stretch(pl.to_world) * local_mag + max_abs_component(p));
+                           max_abs_component(pl.to_local.translation()) + vertex_mag;
+  const double isotropic = max_stretch(pl.to_world) * local_mag + max_abs_component(p);
+  double e[3];
+  for (int i = 0; i < 3; ++i)
+    e[i] = std::fabs(pl.to_local.m[i][0] * p.x) + std::fabs(pl.to_local.m[i][1] * p.y) +
+           std::fabs(pl.to_local.m[i][2] * p.z) + std::fabs(pl.to_local.m[i][3]) + vertex_mag;
+  double per_axis = 0;
+  for (int k = 0; k < 3; ++k)
+    per_axis += std::fabs(n[k]) * (std::fabs(pl.to_world.m[k][0]) * e[0] + std::fabs(pl.to_world.m[k][1]) * e[1] +
+                                   std::fabs(pl.to_world.m[k][2]) * e[2] + std::fabs(p[k]));
+  double d = 16 * eps * std::min(isotropic, per_axis);
   if (kernel == Kernel::watertight) {
     // The watertight test computes t = T / D from edge functions whose rounding errors do
     // not cancel against the plane distance as Moller's (o' - v0).n does: for a sliver or a

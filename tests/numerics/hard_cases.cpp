@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <array>
 #include <map>
+#include <numeric>
 #include <random>
 #include <stdexcept>
 #include <tuple>
@@ -757,6 +758,325 @@ ImageCheck image_check(Kernel k, bool dbl, bool in_coordinates, int size) {
 
 Outcome shadow_case_without_offset(Kernel k, bool dbl) {
   return dbl ? shadow_case<double, true>(k) : shadow_case<float, true>(k);
+}
+
+// ---------------------------------------------------------------------------------------
+// Issue 29: Whitted ray trees on hard geometry (hard_cases.h says what is judged).
+
+TreeOutcome& TreeOutcome::operator+=(const TreeOutcome& o) {
+  primaries += o.primaries;
+  reflection += o.reflection;
+  refraction += o.refraction;
+  deepest += o.deepest;
+  tir += o.tir;
+  self_hits += o.self_hits;
+  surface_hits += o.surface_hits;
+  leaks += o.leaks;
+  overshoots += o.overshoots;
+  crossings += o.crossings;
+  self_t_max = std::max(self_t_max, o.self_t_max);
+  return *this;
+}
+
+namespace {
+
+// What exact geometry says about a ray leaving an object's surface: a closed convex mesh
+// is never met again by a ray leaving it outward, and is left exactly once by a ray going
+// in; a planar mesh is never met again at all.
+enum class Shape { convex, planar };
+
+struct Part {
+  Mesh mesh;
+  Affine<double> to_world;
+  Shape shape;
+};
+
+// Several meshes of one material placed in the world as the engine holds them, one sphere
+// each, every sphere in one register file; one light; depth kSecondaryDepth.
+template <typename T>
+struct TreeScene {
+  Scene scene;
+  SceneGeometry<T> g;
+  FrameSetup<T> f;
+  IuRegisters<T> regs;
+  std::vector<Shape> shape;                  // per object
+  std::vector<Convex> convex;                // per object, local, double
+  std::vector<std::vector<Vec3d>> outward;   // per object and triangle, local, unit (convex only)
+  Vec3d centre{0};
+  double world_size = 0;
+
+  TreeScene(const std::vector<Part>& parts, const Material& material, Kernel k) {
+    scene.source = "secondary hard case";
+    scene.materials.push_back(material);
+    scene.depth = kSecondaryDepth;
+    Vec3d lo(kInf<double>), hi(-kInf<double>);
+    for (const Part& p : parts) {
+      scene.objects.push_back({"part", 0, p.mesh, std::make_shared<StaticMotion>(p.to_world), nullptr});
+      shape.push_back(p.shape);
+      convex.push_back(convex_of(p.mesh));
+      outward.push_back(p.shape == Shape::convex ? topology_of(p.mesh).normal : std::vector<Vec3d>{});
+      for (const Vec3d& v : p.mesh.vertices) {
+        const Vec3d w = p.to_world.point(v);
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+      }
+    }
+    centre = (lo + hi) * 0.5;
+    world_size = max_abs_component(hi - lo);
+    // The eye bounds the ray origins' magnitude (frame_setup's sphere margin relies on it):
+    // the primary rays start within 3 sizes of the centre.
+    Camera cam;
+    cam.eye = centre + Vec3d(4 * world_size, 0, 0);
+    cam.target = centre;
+    scene.camera = std::make_shared<FixedCamera>(cam);
+    scene.lights.push_back({centre + Vec3d(1, 3, 2) * world_size, Vec3d(1), nullptr});
+    g = build_geometry<T>(scene, make_spheres(scene, 1), k);
+    f = setup_frame(scene, g, 0);
+    std::vector<std::uint32_t> all(g.sphere_count());
+    std::iota(all.begin(), all.end(), 0u);
+    regs.load(f, g, all);
+  }
+};
+
+template <typename T>
+struct TreeRay {
+  SpawnedRay<T> spawned;
+  int depth = 0;
+  std::uint32_t object = kNone, prim = kNone;  // the hit that spawned it
+};
+
+// Judge one reflection or refraction ray by its nearest hit (hard_cases.h).
+template <typename T>
+void judge_secondary(const TreeScene<T>& S, const TreeRay<T>& r, const HitRecord<T>& h, TreeOutcome& out) {
+  const bool on_parent = h.valid() && h.object == r.object;
+  auto self = [&](std::uint64_t& count) {
+    ++count;
+    if (std::getenv("OPRT_DEBUG_CASES"))
+      std::fprintf(stderr, "%s %s depth %d: object %u prim %u -> prim %u t %.9g, origin (%.9g %.9g %.9g) dir (%.6g %.6g %.6g)\n",
+                   &count == &out.self_hits ? "self" : "surface",
+                   r.spawned.kind == RayKind::reflection ? "reflection" : "refraction", r.depth, r.object, r.prim,
+                   h.prim, static_cast<double>(h.t), static_cast<double>(r.spawned.ray.o.x),
+                   static_cast<double>(r.spawned.ray.o.y), static_cast<double>(r.spawned.ray.o.z),
+                   static_cast<double>(r.spawned.ray.d.x), static_cast<double>(r.spawned.ray.d.y),
+                   static_cast<double>(r.spawned.ray.d.z));
+    out.self_t_max = std::max(out.self_t_max, static_cast<double>(h.t));
+  };
+  if (on_parent && h.prim == r.prim) return self(out.self_hits);
+  if (S.shape[r.object] == Shape::planar) {
+    if (on_parent) self(out.surface_hits);
+    return;
+  }
+  const Ray<T> l = S.f.to_local[r.object].ray(r.spawned.ray);
+  const Vec3d o(l.o), d(l.d);
+  if (dot3(S.outward[r.object][r.prim], d) > 0) {  // leaving the convex mesh
+    if (on_parent) self(out.surface_hits);
+    return;
+  }
+  // Going in (or staying inside). Where does the ray start? Its world origin (T) mapped to
+  // local in double: outside the mesh by more than the origin's own rounding to T can place
+  // it (a few ulps of its coordinates, in local units) means the offset pushed it through to
+  // the far side (an overshoot: the ray then skips the surface it should leave by); within
+  // that rounding, nothing is judged. Inside, but its T-rounded local origin (what the
+  // kernel sees) outside: the world -> local rounding carried it across another face near
+  // an edge (a crossing). Else the oracle's exit, judged where it lies clearly beyond
+  // rounding.
+  const Convex& cv = S.convex[r.object];
+  const Placement& pl = S.f.placement[r.object];
+  const Vec3d ow(r.spawned.ray.o);
+  const double exact = clearance(cv, pl.to_local.point(ow));
+  const double resolution =
+      4 * static_cast<double>(unit_roundoff<T>()) * max_abs_component(ow) * max_stretch(pl.to_local) + oracle_margin<T>(cv);
+  if (exact < -resolution) {
+    ++out.overshoots;
+    return;
+  }
+  if (exact < resolution) return;
+  if (clearance(cv, o) < 0) {
+    ++out.crossings;
+    return;
+  }
+  const Chord ch = clip(cv, o, d);
+  const double len = std::sqrt(dot3(d, d));
+  if (ch.empty() || !(ch.t_out * len > 4 * oracle_margin<T>(cv))) return;
+  if (!h.valid()) ++out.leaks;
+  else if (on_parent && h.t < 0.5 * ch.t_out) self(out.surface_hits);
+}
+
+// A primary ray's tree, to the depth bound, as the GPP traces it (every reflection and
+// refraction ray judged; shadow rays left to the "shadow rays" case). kNoOffset starts each
+// secondary ray at its hit point itself, rounded to T.
+template <typename T, bool kNoOffset>
+void trace_tree(const TreeScene<T>& S, const Shader<T>& shader, const Ray<T>& primary, TreeOutcome& out) {
+  const auto noop = [](const SphereVisit&) {};
+  const HitRecord<T> first = trace_nearest(S.g, S.regs, primary, noop);
+  if (!first.valid()) return;
+  ++out.primaries;
+  std::vector<TreeRay<T>> todo;
+  std::vector<SpawnedRay<T>> spawned;
+  const Material& mat = S.scene.materials[0];
+  auto expand = [&](const Ray<T>& ray, const HitRecord<T>& h, int depth, bool inside) {
+    spawned.clear();
+    shader.shade(ray, h, depth, inside, spawned);
+    const SurfacePoint sp = surface_point(S.scene.objects[h.object], S.f.placement[h.object], h.prim, h.u, h.v);
+    if (depth < kSecondaryDepth && mat.transmits()) {  // Snell's k < 0, as the shader decides it
+      const Vec3d d = glm::normalize(Vec3d(ray.d));
+      const Vec3d nf = dot3(sp.n, d) > 0 ? -sp.n : sp.n;
+      const Vec3d ns = dot3(sp.shading, nf) < 0 ? -sp.shading : sp.shading;
+      const double eta = inside ? mat.ior : 1 / mat.ior, cos_i = -dot3(d, ns);
+      if (1 - eta * eta * (1 - cos_i * cos_i) < 0) ++out.tir;
+    }
+    for (const SpawnedRay<T>& s : spawned) {
+      if (s.kind == RayKind::shadow) continue;
+      TreeRay<T> r{s, depth + 1, h.object, h.prim};
+      if (kNoOffset) r.spawned.ray.o = Vec3<T>(sp.p);
+      todo.push_back(r);
+    }
+  };
+  expand(primary, first, 0, false);
+  while (!todo.empty()) {
+    const TreeRay<T> r = todo.back();
+    todo.pop_back();
+    ++(r.spawned.kind == RayKind::reflection ? out.reflection : out.refraction);
+    if (r.depth == kSecondaryDepth) ++out.deepest;
+    const HitRecord<T> h = trace_nearest(S.g, S.regs, r.spawned.ray, noop);
+    judge_secondary(S, r, h, out);
+    if (h.valid()) expand(r.spawned.ray, h, r.depth, r.spawned.inside);
+  }
+}
+
+// The shadow case's six maps: identity, far from the origin (1e3, 1e5), scaled by 1e-3 and
+// 1e3, and scaled non-uniformly (1, 1e-2, 1e2).
+std::vector<Affine<double>> six_maps(Rng& rng) {
+  std::vector<Affine<double>> maps = {Affine<double>::identity()};
+  maps.push_back(rigid(rng, random_unit(rng) * 1e3));
+  maps.push_back(rigid(rng, random_unit(rng) * 1e5));
+  maps.push_back(rigid(rng, {1, 2, 3}) * scale(Vec3d(1e-3)));
+  maps.push_back(rigid(rng, {1, 2, 3}) * scale(Vec3d(1e3)));
+  maps.push_back(rigid(rng, {0, 0, 0}) * scale({1, 1e-2, 1e2}));
+  return maps;
+}
+
+// A UV sphere with its vertex normals published (its shading normals interpolated).
+Mesh smooth_sphere(std::uint32_t segments, std::uint32_t rings) {
+  Mesh m = uv_sphere(1, segments, rings);
+  for (const Vec3d& v : m.vertices) m.normals.push_back(glm::normalize(v));
+  m.normal_index = m.triangles;
+  return m;
+}
+
+// A glass sphere seen through: transmit 1, ior 1.5; a coarse faceted sphere (its flat
+// facets turn rays inside past the critical angle: total internal reflection) and a fine
+// one shaded smooth by its published normals. Rays from a viewpoint 3 sizes away towards
+// random points of the disc it covers (out to its silhouette), under the six maps.
+template <typename T, bool kNoOffset = false>
+TreeOutcome glass_sphere_case(Kernel k) {
+  TreeOutcome out;
+  Rng rng(21);
+  Material glass;
+  glass.diffuse = Vec3d(0.05);
+  glass.transmit = Vec3d(1);
+  glass.ior = 1.5;
+  for (const Affine<double>& w : six_maps(rng))
+    for (const Mesh& m : {uv_sphere(1, 12, 6), smooth_sphere(48, 24)}) {
+      const TreeScene<T> S({{m, w, Shape::convex}}, glass, k);
+      const Shader<T> shader(S.scene, S.f, kSecondaryDepth);
+      for (int i = 0; i < 400; ++i) {
+        const Vec3d view = random_unit(rng), side = any_perpendicular(view), up = cross3(view, side);
+        const double r = 1.02 * std::sqrt(uniform(rng, 0, 1)), a = uniform(rng, 0, 2 * kPi);
+        const Vec3d target = w.point(side * (r * std::cos(a)) + up * (r * std::sin(a)));
+        const Vec3d eye = w.point(Vec3d(0)) - glm::normalize(w.vector(view)) * (3 * S.world_size);
+        const Vec3d d = glm::normalize(target - eye);
+        trace_tree<T, kNoOffset>(S, shader, Ray<T>{Vec3<T>(eye), Vec3<T>(d), kInf<T>}, out);
+      }
+    }
+  return out;
+}
+
+// Two mirrors facing each other (reflect 1), 40 x 40 grids of 8 x 8 quads a distance 1
+// apart: rays start between them at 0.2 to pi/2 rad from the mirrors' plane (exactly
+// perpendicular ones retrace their path) and bounce back and forth to the depth bound;
+// under the six maps.
+template <typename T, bool kNoOffset = false>
+TreeOutcome mirrors_case(Kernel k) {
+  TreeOutcome out;
+  Rng rng(22);
+  Material mirror;
+  mirror.diffuse = Vec3d(0.05);
+  mirror.reflect = Vec3d(1);
+  const Mesh sheet = plane(40, 40, 8, 8);  // in y = 0, facing +y
+  const Affine<double> upper = translate({0, 1, 0}) * rotate({1, 0, 0}, kPi);  // in y = 1, facing -y
+  for (const Affine<double>& w : six_maps(rng)) {
+    const TreeScene<T> S({{sheet, w, Shape::planar}, {sheet, w * upper, Shape::planar}}, mirror, k);
+    const Shader<T> shader(S.scene, S.f, kSecondaryDepth);
+    for (int i = 0; i < 300; ++i) {
+      const double elevation = i % 10 == 0 ? kPi / 2 : uniform(rng, 0.2, kPi / 2), az = uniform(rng, 0, 2 * kPi);
+      const Vec3d o(uniform(rng, -3, 3), uniform(rng, 0.2, 0.8), uniform(rng, -3, 3));
+      const Vec3d d(std::cos(elevation) * std::cos(az), (i % 2 ? 1 : -1) * std::sin(elevation),
+                    std::cos(elevation) * std::sin(az));
+      const Vec3d ow = w.point(o), dw = glm::normalize(w.vector(d));
+      trace_tree<T, kNoOffset>(S, shader, Ray<T>{Vec3<T>(ow), Vec3<T>(dw), kInf<T>}, out);
+    }
+  }
+  return out;
+}
+
+// The closed meshes of the cases above (a subdivided box, a UV sphere, a thin capped
+// cylinder of slivers) made half mirror, half glass (reflect 0.5, transmit 0.5, ior 1.5):
+// every hit spawns a reflection and (but for total internal reflection) a refraction ray.
+// Primary rays as the shadow case aims them, under its six maps.
+template <typename T, bool kNoOffset = false>
+TreeOutcome closed_meshes_case(Kernel k) {
+  TreeOutcome out;
+  Rng rng(23);
+  Material half;
+  half.diffuse = Vec3d(0.05);
+  half.reflect = Vec3d(0.5);
+  half.transmit = Vec3d(0.5);
+  half.ior = 1.5;
+  for (const Affine<double>& w : six_maps(rng))
+    for (const Mesh& m : closed_meshes()) {
+      const TreeScene<T> S({{m, w, Shape::convex}}, half, k);
+      const Shader<T> shader(S.scene, S.f, kSecondaryDepth);
+      const std::vector<Vec3d>& normal = S.outward[0];
+      for (int i = 0; i < 200; ++i) {
+        const std::uint32_t t = static_cast<std::uint32_t>(rng() % m.triangles.size());
+        const Tri& tri = m.triangles[t];
+        const Vec3d q = (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3.0;
+        const Vec3d aim = q + (m.vertices[tri[rng() % 3]] - q) * uniform(rng, 0, 0.999);
+        const Vec3d dl = glm::normalize(-normal[t] + random_unit(rng) * 0.5);
+        const Vec3d dw = glm::normalize(w.vector(dl)), ow = w.point(aim) - dw * (S.world_size * uniform(rng, 1, 3));
+        trace_tree<T, kNoOffset>(S, shader, Ray<T>{Vec3<T>(ow), Vec3<T>(dw), kInf<T>}, out);
+      }
+    }
+  return out;
+}
+
+}  // namespace
+
+const std::vector<SecondaryCase>& secondary_cases() {
+  static const std::vector<SecondaryCase> cases = {
+      {"glass sphere", "a faceted and a smooth-shaded sphere, transmit 1, ior 1.5, seen through under six maps",
+       glass_sphere_case<float>, glass_sphere_case<double>},
+      {"facing mirrors", "two mirrors 1 apart, rays bouncing between them to the depth bound, under six maps",
+       mirrors_case<float>, mirrors_case<double>},
+      {"closed meshes, reflect and transmit", "box, sphere, thin cylinder, reflect 0.5, transmit 0.5, ior 1.5",
+       closed_meshes_case<float>, closed_meshes_case<double>},
+  };
+  return cases;
+}
+
+const SecondaryCase& secondary_case(const std::string& name) {
+  for (const SecondaryCase& c : secondary_cases())
+    if (c.name == name) return c;
+  throw std::out_of_range("no secondary case named \"" + name + "\"");
+}
+
+TreeOutcome secondary_case_without_offset(const std::string& name, Kernel k, bool dbl) {
+  if (name == "glass sphere") return dbl ? glass_sphere_case<double, true>(k) : glass_sphere_case<float, true>(k);
+  if (name == "facing mirrors") return dbl ? mirrors_case<double, true>(k) : mirrors_case<float, true>(k);
+  if (name == "closed meshes, reflect and transmit")
+    return dbl ? closed_meshes_case<double, true>(k) : closed_meshes_case<float, true>(k);
+  throw std::out_of_range("no secondary case named \"" + name + "\"");
 }
 
 }  // namespace oprt::numerics

@@ -1,5 +1,6 @@
 // numerics_report: issue 6's hard cases as a table of failure counts per kernel x
-// precision (scripts/numerics_report runs it; docs/results.md holds its output).
+// precision (scripts/numerics_report runs it; docs/results.md holds its output), then issue
+// 29's secondary-ray cases (only those with --secondary).
 #include "hard_cases.h"
 
 #include <cstdio>
@@ -16,7 +17,10 @@ std::uint64_t kind(const Outcome& o, int k) {
 }
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  // --secondary: only issue 29's tables (the secondary rays), not issue 6's.
+  const bool only_secondary = argc > 1 && std::string(argv[1]) == "--secondary";
+  if (!only_secondary) {
   std::printf("| case | failure | moller float | moller double | watertight float | watertight double |\n");
   std::printf("|---|---|---|---|---|---|\n");
   Outcome total[4];
@@ -70,5 +74,40 @@ int main() {
                   (unsigned long long)o.self_hits, (unsigned long long)o.trials);
     }
   std::printf(".\n");
+  }
+  // Issue 29: reflection and refraction rays, each primary ray's tree to the depth bound.
+  std::printf("\n| secondary case | count | moller float | moller double | watertight float | watertight double |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  const char* kTreeRows[] = {"primary rays that hit", "reflection rays", "refraction rays", "rays at depth 5",
+                             "total internal reflections", "self hits", "surface hits", "leaks",
+                             "overshoots", "crossings"};
+  auto tree_row = [](const TreeOutcome& o, int k) {
+    const std::uint64_t v[] = {o.primaries, o.reflection, o.refraction, o.deepest, o.tir, o.self_hits,
+                               o.surface_hits, o.leaks, o.overshoots, o.crossings};
+    return v[k];
+  };
+  for (const SecondaryCase& c : secondary_cases()) {
+    TreeOutcome o[4];
+    int i = 0;
+    for (Kernel k : {Kernel::moller, Kernel::watertight})
+      for (bool dbl : {false, true}) o[i++] = c.run(k, dbl);
+    for (int k = 0; k < 10; ++k)
+      std::printf("| %s | %s | %llu | %llu | %llu | %llu |\n", k == 0 ? c.name.c_str() : "", kTreeRows[k],
+                  (unsigned long long)tree_row(o[0], k), (unsigned long long)tree_row(o[1], k),
+                  (unsigned long long)tree_row(o[2], k), (unsigned long long)tree_row(o[3], k));
+  }
+  for (const SecondaryCase& c : secondary_cases()) {
+    std::printf("%s, every secondary ray started at its hit point without the offset: self / surface hits of "
+                "secondary rays",
+                c.name.c_str());
+    for (Kernel k : {Kernel::moller, Kernel::watertight})
+      for (bool dbl : {false, true}) {
+        const TreeOutcome o = secondary_case_without_offset(c.name, k, dbl);
+        std::printf("%s %s %s %llu / %llu of %llu", k == Kernel::moller && !dbl ? "" : ",", to_string(k),
+                    dbl ? "double" : "float", (unsigned long long)o.self_hits, (unsigned long long)o.surface_hits,
+                    (unsigned long long)(o.reflection + o.refraction));
+      }
+    std::printf(".\n");
+  }
   return 0;
 }
