@@ -15,7 +15,8 @@ double row_sum_norm(const Affine<double>& a) {  // infinity norm of the linear p
 }  // namespace
 
 template <typename T>
-double watertight_t_error(const Vec3d& o, const Vec3d& d, const Vec3d& v0, const Vec3d& v1, const Vec3d& v2) {
+double watertight_t_error(const Vec3d& o, const Vec3d& d, const Vec3d& v0, const Vec3d& v1, const Vec3d& v2,
+                          bool unit_direction) {
   const double ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
   const int kz = ax >= ay ? (ax >= az ? 0 : 2) : (ay >= az ? 1 : 2);
   const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
@@ -51,14 +52,15 @@ double watertight_t_error(const Vec3d& o, const Vec3d& d, const Vec3d& v0, const
     max_syz = std::max(max_syz, std::fabs(sy * az_i));
   }
   const double delta_z = gamma<T>(3) * max_z;
-  const double delta_x = gamma<T>(5) * (max_x + 2 * max_sxz), delta_y = gamma<T>(5) * (max_y + 2 * max_syz);
+  const double delta_x = gamma<T>(5) * (max_x + (unit_direction ? max_z : 2 * max_sxz));
+  const double delta_y = gamma<T>(5) * (max_y + (unit_direction ? max_z : 2 * max_syz));
   const double delta_e = 2 * (gamma<T>(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
   return 3 * (gamma<T>(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) / std::fabs(det);
 }
 
 template <typename T>
 Vec3d offset_origin(Kernel kernel, const Vec3d& p, const Vec3d& n, const Vec3d& l, const Placement& pl,
-                    const Vec3d& v0, const Vec3d& v1, const Vec3d& v2) {
+                    const Vec3d& v0, const Vec3d& v1, const Vec3d& v2, OffsetBound bound) {
   // The IU decides which side of the plane the origin lies on from t det = (o' - v0).n in
   // T, where o' = to_local(o) is computed in T (every coordinate rounded up to a few ulps of
   // the magnitudes |L^-1| |o| + |t^-1|), and v0, e1, e2, n are the T-rounded triangle
@@ -77,8 +79,8 @@ Vec3d offset_origin(Kernel kernel, const Vec3d& p, const Vec3d& n, const Vec3d& 
   // sum_j |L^-1_ij| |o_j| + |t^-1_i| + the vertex magnitudes; that error vector, carried by
   // to_world's linear part M, moves the point along the world normal n by at most
   // sum_k |n_k| sum_i |M_ki| e_i (and rounding o to T by sum_k |n_k| |o_k|). Both are bounds
-  // on the same error, so the smaller one is kept (for a rigid map they are within a small
-  // factor of each other, and shadow origins moved by ulps: golden images unchanged).
+  // on the same error, so the smaller one may be kept (OffsetBound, shading.h: for a rigid
+  // map they are within a small factor of each other).
   const double eps = std::numeric_limits<T>::epsilon();
   const double vertex_mag = std::max({max_abs_component(v0), max_abs_component(v1), max_abs_component(v2)}) +
                             std::max(max_abs_component(v1 - v0), max_abs_component(v2 - v0));
@@ -93,7 +95,8 @@ Vec3d offset_origin(Kernel kernel, const Vec3d& p, const Vec3d& n, const Vec3d& 
   for (int k = 0; k < 3; ++k)
     per_axis += std::fabs(n[k]) * (std::fabs(pl.to_world.m[k][0]) * e[0] + std::fabs(pl.to_world.m[k][1]) * e[1] +
                                    std::fabs(pl.to_world.m[k][2]) * e[2] + std::fabs(p[k]));
-  double d = 16 * eps * std::min(isotropic, per_axis);
+  const bool tight = bound == OffsetBound::tightest;
+  double d = 16 * eps * (tight ? std::min(isotropic, per_axis) : isotropic);
   if (kernel == Kernel::watertight) {
     // The watertight test computes t = T / D from edge functions whose rounding errors do
     // not cancel against the plane distance as Moller's (o' - v0).n does: for a sliver or a
@@ -102,7 +105,7 @@ Vec3d offset_origin(Kernel kernel, const Vec3d& p, const Vec3d& n, const Vec3d& 
     // t's error keeps that t negative. (The bound is in world units: a local ray keeps the
     // world parameter.)
     const Vec3d o_local = pl.to_local.point(p), d_local = pl.to_local.vector(l);
-    d += 2 * dot3(n, l) * watertight_t_error<T>(o_local, d_local, v0, v1, v2);
+    d += 2 * dot3(n, l) * watertight_t_error<T>(o_local, d_local, v0, v1, v2, !tight);
   }
   Vec3d o = p + n * d;
   // Rounding o to T must not undo the offset: round each coordinate away from the surface.
@@ -166,7 +169,7 @@ Vec3d Shader<T>::shade(const Ray<T>& ray, const HitRecord<T>& hit, int depth, bo
     const double cos_l = std::max(0.0, dot3(ns, l));
     const Vec3d r = ns * (2 * cos_l) - l;
     const double spec = std::pow(std::max(0.0, dot3(r, view)), mat.shininess);
-    const Vec3d origin = offset_origin<T>(frame_.kernel, p, nf, l, pl, sp.a, sp.b, sp.c);
+    const Vec3d origin = offset_origin<T>(frame_.kernel, p, nf, l, pl, sp.a, sp.b, sp.c, OffsetBound::isotropic);
     const Vec3d d = light.position - origin;
     const double len = std::sqrt(dot3(d, d));
     out.push_back({{Vec3<T>(origin), Vec3<T>(d / len), static_cast<T>(len)},
@@ -229,10 +232,10 @@ void Shader<T>::spawn_secondary(const Ray<T>& ray, const SurfacePoint& sp, const
 template class Shader<float>;
 template class Shader<double>;
 template Vec3d offset_origin<float>(Kernel, const Vec3d&, const Vec3d&, const Vec3d&, const Placement&, const Vec3d&,
-                                    const Vec3d&, const Vec3d&);
+                                    const Vec3d&, const Vec3d&, OffsetBound);
 template Vec3d offset_origin<double>(Kernel, const Vec3d&, const Vec3d&, const Vec3d&, const Placement&, const Vec3d&,
-                                     const Vec3d&, const Vec3d&);
-template double watertight_t_error<float>(const Vec3d&, const Vec3d&, const Vec3d&, const Vec3d&, const Vec3d&);
-template double watertight_t_error<double>(const Vec3d&, const Vec3d&, const Vec3d&, const Vec3d&, const Vec3d&);
+                                     const Vec3d&, const Vec3d&, OffsetBound);
+template double watertight_t_error<float>(const Vec3d&, const Vec3d&, const Vec3d&, const Vec3d&, const Vec3d&, bool);
+template double watertight_t_error<double>(const Vec3d&, const Vec3d&, const Vec3d&, const Vec3d&, const Vec3d&, bool);
 
 }  // namespace oprt

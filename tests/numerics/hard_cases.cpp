@@ -548,7 +548,8 @@ Outcome shadow_case(Kernel k) {
           const Vec3d along = tangent * std::cos(az) + cross3(n, tangent) * std::sin(az);
           const Vec3d l = glm::normalize(n * std::sin(angle) + along * std::cos(angle));
           const Vec3d origin =
-              kNoOffset ? Vec3d(Vec3<T>(sp.p)) : offset_origin<T>(k, sp.p, n, l, P.placement(), sp.a, sp.b, sp.c);
+              kNoOffset ? Vec3d(Vec3<T>(sp.p))
+                        : offset_origin<T>(k, sp.p, n, l, P.placement(), sp.a, sp.b, sp.c, OffsetBound::isotropic);
           const Vec3d light = sp.p + l * (4 * P.world_size);
           const Vec3d d = light - origin;
           const double len = std::sqrt(dot3(d, d));
