@@ -1,7 +1,6 @@
 // The SystemC tests' runner: SystemC calls sc_main, which hands over to Catch. ctest runs
 // each test case in its own process (SystemC elaborates once per process). A SystemC
-// warning or error fails the test.
-#define CATCH_CONFIG_RUNNER
+// warning or error fails the test. Catch's implementation is catch_impl.cpp.
 #include <catch2/catch.hpp>
 
 #include <systemc>
