@@ -1,4 +1,4 @@
 // The plain C++ tests' main (Catch's implementation is catch_impl.cpp).
-#include <catch2/catch.hpp>
+#include "catch_run.h"
 
-int main(int argc, char* argv[]) { return Catch::Session().run(argc, argv); }
+int main(int argc, char* argv[]) { return oprt::test::run_catch(argc, argv); }
