@@ -31,13 +31,19 @@ struct RayFigures {
   std::uint64_t starved = 0;  // cycles the GPP had rays in flight and none it could issue
 };
 
-// The counts (not the times) of frame f on `units` units.
+// The counts (not the times) of frame f on `units` units. A ray's bytes are what the recipe
+// writes for each of its waves (ray_writes, gpp_recipe.h).
 template <typename T>
 void count_ray_figures(const FunctionalFrame<T>& f, const Arch& a, std::size_t units, RayFigures& out) {
+  struct Wave {
+    const std::uint32_t *first = nullptr, *last = nullptr;  // null: every unit (broadcast)
+  };
+  const auto bytes_of = [&](const Wave& w) {
+    const RayWrites writes = ray_writes<T>(a, units, w);
+    return writes.transfers * writes.bytes;
+  };
   for (KindFigures& k : out.kind) k = KindFigures{};
   out.by_depth.clear();
-  const std::uint64_t ray_bytes = Bytes<T>::ray_bytes(a.top_tree());
-  const bool masked = a.route.transfer == "mask";
   for (std::uint32_t id = 0; id < f.ray_count(); ++id) {
     const RayRecord<T>& r = f.rays[id];
     const int k = static_cast<int>(r.kind);
@@ -45,15 +51,19 @@ void count_ray_figures(const FunctionalFrame<T>& f, const Arch& a, std::size_t u
     ++kf.rays;
     if (r.depth >= out.by_depth.size()) out.by_depth.resize(r.depth + 1u, {});
     ++out.by_depth[r.depth][k];
-    std::uint64_t writes = units, waves = 1;
+    std::uint64_t writes = units;
     if (f.routed) {
       const auto [first, last] = f.route_of(id);
       writes = static_cast<std::uint64_t>(last - first);
-      waves = 0;
-      for (const std::uint32_t* p = first; p != last; ++p) waves += (*p & kWaveEnd) ? 1 : 0;
-      kf.ray_bytes += masked ? waves * (ray_bytes + (units + 7) / 8) : writes * ray_bytes;
+      for (const std::uint32_t* p = first; p != last;) {  // wave by wave, the last flagged kWaveEnd
+        const std::uint32_t* end = p;
+        while (!(*end++ & kWaveEnd)) {
+        }
+        kf.ray_bytes += bytes_of({p, end});
+        p = end;
+      }
     } else {
-      kf.ray_bytes += ray_bytes;
+      kf.ray_bytes += bytes_of({});
     }
     kf.unit_writes += writes;
     kf.answer_bytes += writes * answer_bytes<T>(r.kind);
