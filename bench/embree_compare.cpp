@@ -106,7 +106,7 @@ struct SecondarySet {
   std::uint64_t tree_rays[kRayKinds] = {};           // every ray of the trees, by kind
 };
 
-struct TreeRecorder {
+struct TreeRecorder : RecorderBase {
   SecondarySet* out;
   // The current pixel's rays in trace_pixel's order (ids from 0), and each one's parent:
   // a ray learns its children's ids when it ends, and they begin after it.
@@ -124,12 +124,6 @@ struct TreeRecorder {
     pixel.push_back({r, k, {}, id < parent_of.size() ? parent_of[id] : kNone});
     ++out->tree_rays[static_cast<int>(k)];
   }
-  void begin_unit(std::uint32_t) {}
-  void wave_end() {}
-  void skip(std::uint32_t) {}
-  void visit(const SphereVisit&) {}
-  template <typename Answer>
-  void end_unit(std::uint32_t, const Answer&) {}
   void end_ray(const RayEnd<float>& end) {
     const std::uint32_t i = static_cast<std::uint32_t>(pixel.size() - 1);
     Entry& e = pixel[i];
@@ -156,7 +150,7 @@ SecondarySet make_secondary(const Scene& scene, const SceneGeometry<float>& g, c
   FrameImage image(width, height);
   PixelScratch<float> scratch;
   SecondarySet set;
-  TreeRecorder rec{&set, {}, {}};
+  TreeRecorder rec{{}, &set, {}, {}};
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) trace_pixel(in, x, y, image, rec, scratch);
   return set;

@@ -33,6 +33,21 @@ struct UnitAnswer {
   bool occluded = false;
 };
 
+// Every callback of a recorder, doing nothing: a recorder derives from it and writes only
+// the ones it keeps something from.
+struct RecorderBase {
+  template <typename Ray>
+  void begin_ray(const Ray&, RayKind, std::size_t, int) {}
+  void begin_unit(std::uint32_t) {}
+  void visit(const SphereVisit&) {}
+  template <typename Answer>
+  void end_unit(std::uint32_t, const Answer&) {}
+  void wave_end() {}
+  void skip(std::uint32_t) {}
+  template <typename End>
+  void end_ray(const End&) {}
+};
+
 // What the recorder learns when a ray is done: a nearest-hit ray's hit (invalid for a miss
 // and for shadow rays), and the rays that hit spawned, at ids [id + first_child, id +
 // first_child + children) (first_child 0: none).

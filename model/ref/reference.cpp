@@ -34,7 +34,7 @@ FrameWork& FrameWork::operator+=(const FrameWork& o) {
 
 namespace {
 // The reference keeps only the work per sphere and ray kind.
-struct WorkRecorder {
+struct WorkRecorder : RecorderBase {
   FrameWork* work;
   int kind = 0;
   template <typename Ray>
@@ -45,16 +45,9 @@ struct WorkRecorder {
     if (d >= work->by_depth.size()) work->by_depth.resize(d + 1, {});
     ++work->by_depth[d][kind];
   }
-  void begin_unit(std::uint32_t) {}
-  void wave_end() {}
-  void skip(std::uint32_t) {}
   void visit(const SphereVisit& v) {
     if (v.sphere != kNone) work->per_sphere[kind][v.sphere] += v.work;
   }
-  template <typename Answer>
-  void end_unit(std::uint32_t, const Answer&) {}
-  template <typename End>
-  void end_ray(const End&) {}
 };
 }  // namespace
 
@@ -79,7 +72,7 @@ FrameResult render_reference(const Scene& scene, const SceneGeometry<T>& g, int 
   parallel_chunks(out.image.size(), kPixelsPerChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
     throw_if_stopped();
     Local& l = locals.local();
-    WorkRecorder rec{&l.work};
+    WorkRecorder rec{{}, &l.work};
     for (std::size_t p = begin; p < end; ++p)
       trace_pixel(in, static_cast<int>(p % width), static_cast<int>(p / width), out.image, rec, l.scratch);
   });

@@ -198,7 +198,7 @@ namespace {
 // A frame's ray trees as trace_pixel builds them, with ids as the timed model numbers them
 // (pixel by pixel, each pixel's rays in the order they are traced): per ray its kind, depth
 // and the children its hit spawned.
-struct TreeRecorder {
+struct TreeRecorder : oprt::RecorderBase {
   struct Node {
     oprt::RayKind kind;
     int depth;
@@ -209,12 +209,6 @@ struct TreeRecorder {
   void begin_ray(const Ray&, oprt::RayKind k, std::size_t, int depth) {
     rays.push_back({k, depth});
   }
-  void begin_unit(std::uint32_t) {}
-  void wave_end() {}
-  void skip(std::uint32_t) {}
-  void visit(const oprt::SphereVisit&) {}
-  template <typename Answer>
-  void end_unit(std::uint32_t, const Answer&) {}
   template <typename End>
   void end_ray(const End& e) {
     const auto id = static_cast<std::uint32_t>(rays.size() - 1);

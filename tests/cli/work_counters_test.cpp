@@ -19,7 +19,7 @@ using namespace oprt::test;
 
 namespace {
 // Per unit and kind of ray, the work of every sphere test it made, and its node tests.
-struct Counter {
+struct Counter : RecorderBase {
   std::vector<std::array<WorkCounts, kRayKinds>> units;
   int kind = 0;
   std::uint32_t unit = 0;
@@ -30,10 +30,6 @@ struct Counter {
     w.node_tests += v.nodes_before;
     if (v.sphere != kNone) w += v.work;
   }
-  void end_unit(std::uint32_t, const UnitAnswer<float>&) {}
-  void wave_end() {}
-  void skip(std::uint32_t) {}
-  void end_ray(const RayEnd<float>&) {}
 };
 
 void check(const nlohmann::json& j, const WorkCounts& w) {

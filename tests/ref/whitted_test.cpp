@@ -51,20 +51,12 @@ FrameResult render(const Scene& s, int depth) {
 }
 
 // Counts a frame's rays per kind and per depth, as the recorder of trace_pixel sees them.
-struct DepthCounter {
+struct DepthCounter : RecorderBase {
   std::array<std::array<std::uint64_t, kRayKinds>, kMaxDepth + 1> rays{};
   template <typename Ray>
   void begin_ray(const Ray&, RayKind k, std::size_t, int depth) {
     ++rays.at(static_cast<std::size_t>(depth))[static_cast<int>(k)];
   }
-  void begin_unit(std::uint32_t) {}
-  void wave_end() {}
-  void skip(std::uint32_t) {}
-  void visit(const SphereVisit&) {}
-  template <typename Answer>
-  void end_unit(std::uint32_t, const Answer&) {}
-  template <typename End>
-  void end_ray(const End&) {}
 };
 
 template <typename T>
