@@ -95,7 +95,7 @@ def script_arguments(doc, name):
     oprt) and --out (default out/NAME in the repository)."""
     import argparse
     ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--oprt", default=os.path.join(paths.REPO, "build", "testbench", "oprt"))
+    ap.add_argument("--oprt", default=paths.BUILD_OPRT)
     ap.add_argument("--out", default=os.path.join(paths.REPO, "out", name))
     return ap
 
@@ -108,3 +108,13 @@ def scenes_present(cases, who):
             yield case
         else:
             print(f"{who}: {case[1]} not found: {case[0]} skipped", file=sys.stderr)
+
+
+def chosen_scenes(text, known, who):
+    """The scene names of a comma-separated --scenes value; the script ends naming any that is
+    not among `known`."""
+    wanted = text.split(",")
+    unknown = set(wanted) - set(known)
+    if unknown:
+        sys.exit(f"{who}: --scenes: unknown {', '.join(sorted(unknown))} (known: {', '.join(known)})")
+    return wanted
