@@ -1,4 +1,24 @@
-"""The command line of scripts/explore: options, checks, and a search from start to report."""
+"""Multi-objective design-space search over `oprt render` (docs/explore.md).
+
+  scripts/explore SPACE.json --out DIR [--evaluations N] [--seed S] [--sampler nsga2|tpe]
+                  [--jobs N] [--grid] [--slurm] [--storage URL|FILE.journal] [--oprt BINARY]
+
+SPACE (`oprt-space/1`) names the parameters to search (architecture-file keys, dotted, and
+`oprt render` options), two or three objectives among frame_time_s, energy_j and area_mm2, and
+upper (or lower) bounds on any objective or per-frame stats.json figure. Optuna's NSGA-II or
+TPE sampler, seeded, proposes configurations; each is priced by `oprt render --level analytic`;
+at the end the Pareto-optimal ones are rendered again at `--level at`, and the search fails
+loudly if the two levels differ by more than 1 %. The study lives in DIR (SQLite): the same
+command resumes it after an interruption of any kind. `--grid` evaluates every point of a
+space of choices. Outputs: DIR/evaluations.csv, pareto.csv, pareto/trial_NNNNN.json (an
+architecture file per Pareto point), front.png, hypervolume.png, summary.md.
+
+Exit status: 0 done, 1 a confirmation beyond 1 % or evaluations missing, 2 bad space or
+command line, 128 + signal when interrupted. Needs Debian's python3-optuna and
+python3-matplotlib (scripts/setup).
+
+This module: the command line of scripts/explore (options, checks, a search from start to report).
+"""
 import argparse
 import fcntl
 import json
@@ -88,9 +108,9 @@ def parse_args(argv, doc):
     return ap, ap.parse_args(argv)
 
 
-def main(argv=None, doc="", script=None):
-    """scripts/explore: `doc` is its usage text, `script` its path (for the Slurm job's commands).
-    Returns the exit status."""
+def main(argv=None, doc=__doc__, script=None):
+    """scripts/explore: `doc` is its usage text (this module's), `script` its path (for the Slurm
+    job's commands; default sys.argv[0]). Returns the exit status."""
     try:
         return explore(argv, doc, os.path.abspath(script or sys.argv[0]))
     except KeyboardInterrupt:  # before the search installs its own handler (checking the space)
