@@ -90,13 +90,16 @@ def stop(proc, grace=10):
             proc.wait()
 
 
-def script_arguments(doc, name):
+def script_arguments(doc, name, **defaults):
     """A result script's argument parser: its docstring as help, --oprt (default: the build's
-    oprt) and --out (default out/NAME in the repository)."""
+    oprt), --out (default out/NAME in the repository) and an option per keyword, with that
+    default (kitchen_resolution="256x192": --kitchen-resolution)."""
     import argparse
     ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--oprt", default=paths.BUILD_OPRT)
     ap.add_argument("--out", default=os.path.join(paths.REPO, "out", name))
+    for option, default in defaults.items():
+        ap.add_argument("--" + option.replace("_", "-"), default=default)
     return ap
 
 

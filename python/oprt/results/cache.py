@@ -40,9 +40,7 @@ def figures(stats):
 
 
 def main(argv=None):
-    ap = script_arguments(__doc__, "cache_results")
-    ap.add_argument("--frames", default="0:1")
-    ap.add_argument("--level", default="at")
+    ap = script_arguments(__doc__, "cache_results", frames="0:1", level="at")
     ap.add_argument("--scenes", default="paper_room,kitchen,grid_1m", help="which of the three (default: all)")
     a = ap.parse_args(argv)
     wanted = chosen_scenes(a.scenes, ("paper_room", "kitchen", "grid_1m"), "cache_results")

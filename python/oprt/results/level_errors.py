@@ -25,10 +25,8 @@ def work(frame):
 
 
 def main(argv=None):
-    ap = script_arguments(__doc__, "level_errors")
-    ap.add_argument("--scene", default=os.path.join(paths.SCENES, "paper_room.json"))
-    ap.add_argument("--frames", default="0")
-    ap.add_argument("--resolution", default="128x128")
+    ap = script_arguments(__doc__, "level_errors", scene=os.path.join(paths.SCENES, "paper_room.json"), frames="0",
+                          resolution="128x128")
     a = ap.parse_args(argv)
     arch = os.path.join(paths.ARCH, "contended.json")
     print("| IU | accel | top | memory | at makespan | lt error | analytic error | at s | lt s | analytic s | busy and image |")

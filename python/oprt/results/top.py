@@ -35,11 +35,8 @@ def totals(stats):
 
 
 def main(argv=None):
-    ap = script_arguments(__doc__, "top_results")
-    ap.add_argument("--frames", default="0:9")
-    ap.add_argument("--resolution", default="256x256")
-    ap.add_argument("--kitchen-resolution", default="256x192")
-    ap.add_argument("--level", default="at")
+    ap = script_arguments(__doc__, "top_results", frames="0:9", resolution="256x256", kitchen_resolution="256x192",
+                          level="at")
     a = ap.parse_args(argv)
     cases = [("paper_room", os.path.join(paths.SCENES, "paper_room.json"), a.resolution, ["--subdivide", "8"]),
              ("kitchen", os.path.join(paths.SHARED, "bart", "kitchen", "kitchen.aff"), a.kitchen_resolution, [])]
