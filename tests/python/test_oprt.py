@@ -307,6 +307,81 @@ class TestRayKinds(unittest.TestCase):
             rays.work_cycles(self.stats(iu={"model": "pipelined"}), self.FRAME)
 
 
+class TestPaths(unittest.TestCase):
+    """Which oprt the package runs: in a checkout, and installed under a prefix."""
+
+    def test_in_the_checkout_the_build_unless_told(self):
+        env = dict(os.environ)
+        env.pop("OPRT_BINARY", None)
+        code = "from oprt import paths; print(paths.IN_CHECKOUT, paths.oprt_binary(), paths.oprt_binary('/x/oprt'))"
+        out = subprocess.run([sys.executable, "-c", code], env=dict(env, PYTHONPATH=os.path.join(REPO, "python")),
+                             capture_output=True, text=True, check=True).stdout.split()
+        self.assertEqual(out, ["True", os.path.join(REPO, "build", "testbench", "oprt"), "/x/oprt"])
+        env["OPRT_BINARY"] = "/y/oprt"
+        out = subprocess.run([sys.executable, "-c", code], env=dict(env, PYTHONPATH=os.path.join(REPO, "python")),
+                             capture_output=True, text=True, check=True).stdout.split()
+        self.assertEqual(out[1], "/y/oprt")
+
+    def test_installed_under_a_prefix_its_bin_oprt(self):
+        """A copy of the package in PREFIX/lib/python3/dist-packages (cmake --install's layout)
+        runs PREFIX/bin/oprt; without one there, `oprt` on PATH."""
+        with tempfile.TemporaryDirectory() as prefix:
+            site = os.path.join(prefix, "lib", "python3", "dist-packages")
+            shutil.copytree(os.path.join(REPO, "python", "oprt"), os.path.join(site, "oprt"),
+                            ignore=shutil.ignore_patterns("__pycache__"))
+            code = "from oprt import paths; print(paths.IN_CHECKOUT, paths.oprt_binary())"
+            env = {k: v for k, v in os.environ.items() if k != "OPRT_BINARY"}
+            run = lambda path: subprocess.run([sys.executable, "-s", "-c", code], cwd=prefix, capture_output=True,
+                                              text=True, check=True,
+                                              env=dict(env, PYTHONPATH=site, PATH=path)).stdout.split()
+            on_path = os.path.join(prefix, "elsewhere")
+            os.makedirs(on_path)
+            for folder in (on_path, os.path.join(prefix, "bin")):
+                os.makedirs(folder, exist_ok=True)
+                with open(os.path.join(folder, "oprt"), "w") as f:
+                    f.write("#!/bin/sh\n")
+                os.chmod(os.path.join(folder, "oprt"), 0o755)
+            self.assertEqual(run("/usr/bin:/bin"), ["False", os.path.join(prefix, "bin", "oprt")])
+            os.unlink(os.path.join(prefix, "bin", "oprt"))
+            self.assertEqual(run(on_path + ":/usr/bin:/bin"), ["False", os.path.join(on_path, "oprt")])
+
+    def test_chosen_scenes_and_script_arguments(self):
+        self.assertEqual(render.chosen_scenes("a,c", ("a", "b", "c"), "t"), ["a", "c"])
+        with self.assertRaises(SystemExit) as e:
+            render.chosen_scenes("a,x,w", ("a", "b"), "t")
+        self.assertEqual(str(e.exception.code), "t: --scenes: unknown w, x (known: a, b)")
+        a = render.script_arguments("doc", "name", kitchen_resolution="1x1", level="at").parse_args(["--level", "lt"])
+        self.assertEqual((a.kitchen_resolution, a.level, a.out), ("1x1", "lt", os.path.join(REPO, "out", "name")))
+
+
+class TestInstall(unittest.TestCase):
+    """python/ installs with Debian's pip, venv and setuptools, without the network (scripts/setup
+    test installs them): python3 -m venv --system-site-packages v && v/bin/pip install
+    --no-build-isolation --no-index ./python. Built from a copy, so that the checkout gets no
+    build/ or egg-info."""
+
+    def test_venv_install_without_the_network(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            shutil.copytree(os.path.join(REPO, "python"), os.path.join(tmp, "python"),
+                            ignore=shutil.ignore_patterns("__pycache__", "build", "*.egg-info"))
+            env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "OPRT_BINARY")}
+            step = lambda *cmd: subprocess.run(cmd, cwd=tmp, env=env, capture_output=True, text=True)
+            for cmd in (("/usr/bin/python3", "-m", "venv", "--system-site-packages", "v"),
+                        ("v/bin/pip", "install", "--no-build-isolation", "--no-index", "./python")):
+                r = step(*cmd)
+                self.assertEqual(r.returncode, 0, f"{' '.join(cmd)}:\n{r.stdout}{r.stderr}")
+            r = step("v/bin/python", "-c", "import oprt, oprt.sweep.cli, oprt.explore.cli; from oprt import paths, pareto; "
+                     "print(oprt.__file__, paths.IN_CHECKOUT, pareto.hypervolume([(1, 2), (2, 1)], (3, 3)))")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            where, in_checkout, hv = r.stdout.split()
+            # The environment's own copy; (1,2) and (2,1) below (3,3): 2 + 2 - 1 (their overlap) = 3.
+            self.assertTrue(os.path.realpath(where).startswith(os.path.realpath(os.path.join(tmp, "v")) + os.sep), where)
+            self.assertEqual((in_checkout, hv), ("False", "3.0"))
+            r = step("v/bin/oprt-sweep", "--help")  # an entry point: scripts/sweep's usage
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("Architecture-exploration sweeps over `oprt render`", r.stdout)
+
+
 @unittest.skipUnless(OPRT, "needs OPRT_BINARY (the real oprt)")
 class TestRender(unittest.TestCase):
     def setUp(self):
