@@ -50,3 +50,11 @@ set(OPRT_PC_CFLAGS "-std=c++17 ${OPRT_PC_CFLAGS} -DOPRT_FP_CONTRACT_OFF=1")
 list(JOIN OPRT_EXPORTED_LINK_OPTIONS " " OPRT_PC_LIBS)
 configure_file(${CMAKE_CURRENT_LIST_DIR}/oprt.pc.in ${PROJECT_BINARY_DIR}/oprt.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/oprt.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+
+# --- The Python package (issue 40) --------------------------------------------------------------
+# python/oprt into DIR/lib/python3/dist-packages/oprt (Debian's layout, whatever the library
+# folder): `PYTHONPATH=DIR/lib/python3/dist-packages python3 -c 'import oprt'`, or a .pth file
+# naming that folder in an environment's site-packages. Installed so, the package runs
+# DIR/bin/oprt by default (oprt.paths.installed_oprt); tests/scripts/test_platform.sh imports it.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/python/oprt DESTINATION lib/python3/dist-packages
+        FILES_MATCHING PATTERN "*.py" PATTERN "__pycache__" EXCLUDE)

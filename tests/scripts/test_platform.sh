@@ -10,6 +10,10 @@
 #    for the same architecture with its own DRAM (stats.json, per unit memory.misses), and
 #    their bytes (memory.dram_bytes); a unit's misses are those of its access sequence, not of
 #    the memory's latency (the platform's is 50 cycles, oprt's DRAM 40 + the transfer).
+# And (issue 40) the Python package installed into the same prefix: Debian's Python, started
+# outside the checkout with only the prefix's folder on its path, imports oprt from the prefix,
+# whose default oprt binary is the prefix's own command; a known hypervolume and an 8x8 render
+# through that command give their hand-computed figures.
 #   test_platform.sh SOURCE_DIR BUILD_DIR WORK_DIR
 set -euo pipefail
 src=$1 build=$2 work=$3
@@ -61,3 +65,30 @@ ${CXX:-c++} -Wall -Wextra -Werror "$src/examples/platform/platform.cpp" $(pkg-co
   -o "$work/platform_pc"
 check pkg-config "$work/platform_pc"
 echo "ok: examples/platform from the installed package renders the reference's image through its own memory"
+
+site=$prefix/lib/python3/dist-packages
+[ -f "$site/oprt/__init__.py" ] || { echo "FAIL: cmake --install put no Python package oprt into $site"; exit 1; }
+(cd / && env -u OPRT_BINARY -u PYTHONHOME PYTHONPATH="$site" /usr/bin/python3 -s - "$prefix" "$src" "$scene" \
+  "$work/python") <<'EOF'
+import os, sys
+prefix, src, scene, out = sys.argv[1:]
+import oprt
+from oprt import pareto, paths, render
+where = os.path.realpath(oprt.__file__)
+if not where.startswith(os.path.realpath(prefix) + os.sep):
+    sys.exit(f"FAIL: import oprt found {where}, not the prefix's package")
+if any(os.path.realpath(p or ".").startswith(os.path.join(os.path.realpath(src), "python")) for p in sys.path):
+    sys.exit(f"FAIL: the checkout's python/ is on the path: {sys.path}")
+binary = paths.oprt_binary()
+if binary != os.path.join(prefix, "bin", "oprt"):
+    sys.exit(f"FAIL: the installed package runs {binary}, not {prefix}/bin/oprt")
+# (1,3), (2,2), (3,1) below (4,4): columns of 1, 2 and 3 unit squares.
+hv = pareto.hypervolume([(1, 3), (2, 2), (3, 1)], (4, 4))
+if hv != 6.0:
+    sys.exit(f"FAIL: hypervolume {hv}, expected 6")
+rays = render.render([scene, "--frames", "0", "--resolution", "8x8"], out)["frames"][0]["rays"]
+if rays["primary"] != 64:
+    sys.exit(f"FAIL: rays {rays}: expected 8x8 = 64 primary rays")
+print(f"python: import oprt from {os.path.dirname(where)}, runs {binary}, hypervolume {hv:g}, 64 primary rays")
+EOF
+echo "ok: the installed Python package imports from the prefix and runs the prefix's oprt"
