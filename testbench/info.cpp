@@ -10,7 +10,7 @@
 #include "policy_driver.h"
 #include "ref/frame_setup.h"
 #include "render.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/load.h"
 
 #include <algorithm>

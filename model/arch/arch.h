@@ -150,7 +150,7 @@ nlohmann::json to_json(const Arch& a);
 // Throws InputError(file, place) if a limited object memory cannot hold one cache set.
 void check_sram(const Arch& a, const std::string& file, const std::string& place);
 
-// "10 ns", "1us", "100 us", "2.5 ms" -> nanoseconds (scene/numbers.h parse_time_ps). Throws
+// "10 ns", "1us", "100 us", "2.5 ms" -> nanoseconds (base/numbers.h parse_time_ps). Throws
 // InputError naming `what`.
 double parse_time_ns(const std::string& text, const std::string& what);
 

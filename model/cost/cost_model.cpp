@@ -1,7 +1,7 @@
 #include "cost/cost_model.h"
 
 #include "geom/bvh.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "geom/triangle_soa.h"
 #include "timing/bytes.h"
 

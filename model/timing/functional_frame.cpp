@@ -2,7 +2,7 @@
 
 #include "ref/parallel.h"
 #include "ref/stop.h"
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <stdexcept>
 #ifdef __GLIBC__

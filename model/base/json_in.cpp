@@ -1,6 +1,6 @@
-#include "scene/json_in.h"
+#include "base/json_in.h"
 
-#include "scene/numbers.h"
+#include "base/numbers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -203,7 +203,7 @@ std::string JsonIn::string() const {
   return j_->get<std::string>();
 }
 
-Vec3d JsonIn::vec3() const {
+std::array<double, 3> JsonIn::array3() const {
   if (!j_->is_array() || j_->size() != 3)
     fail("expected an array of 3 numbers, found " +
          (j_->is_array() ? "an array of " + std::to_string(j_->size()) : type_name()));
@@ -230,10 +230,6 @@ bool JsonIn::boolean_or(const std::string& key, bool def) const {
 std::string JsonIn::string_or(const std::string& key, const std::string& def) const {
   auto v = find(key);
   return v ? v->string() : def;
-}
-Vec3d JsonIn::vec3_or(const std::string& key, const Vec3d& def) const {
-  auto v = find(key);
-  return v ? v->vec3() : def;
 }
 
 }  // namespace oprt
