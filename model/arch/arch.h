@@ -52,6 +52,9 @@ struct IuConfig {
   } node, sphere, transform, box, triangle;  // node: --top bvh; box: --accel bvh
 };
 
+// The middle of the trade: --balance spatial's locality when none is given.
+constexpr double kDefaultLocality = 0.5;
+
 struct Arch {
   std::string source = "built-in defaults";
   double clock_mhz = 100;
@@ -96,8 +99,8 @@ struct Arch {
   Level level = Level::at;
   double quantum_ns = 1000;
   std::string balance = "paper";
-  // Tight unit bounds (1) against balance (0) for `spatial` (unset: balance/spatial.h's
-  // default) and `feedback` (unset: feedback on costs alone, as before locality existed).
+  // Tight unit bounds (1) against balance (0) for `spatial` (unset: kDefaultLocality) and
+  // `feedback` (unset: feedback on costs alone, as before locality existed).
   std::optional<double> locality;
   // Copies of hot spheres on several units (balance/replicate.h): 0 off, kReplicateAuto, or
   // at most that many copies of a sphere.
