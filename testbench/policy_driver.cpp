@@ -48,7 +48,7 @@ Assignment PolicyDriver<T>::with_copies(const Assignment& partition, const std::
   }
   if (previous && !previous->sphere_slices.empty()) {
     // The GPP's issue time in the frame before: its router's and its own per-ray cycles.
-    in.slices = timing::kWorkSlices;
+    in.slices = kWorkSlices;
     measured_weights(*previous, &in.weight_slices);
     in.issue = static_cast<double>(previous->route.cycles) +
                static_cast<double>(previous->total_rays()) * arch_.gpp.cycles_per_ray;
@@ -58,11 +58,11 @@ Assignment PolicyDriver<T>::with_copies(const Assignment& partition, const std::
 
 template <typename T>
 std::vector<double> PolicyDriver<T>::measured_weights(const timing::FrameRun& previous, std::vector<double>* slices) const {
-  const std::size_t spheres = geom_.sphere_count(), S = timing::kWorkSlices;
+  const std::size_t spheres = geom_.sphere_count(), S = kWorkSlices;
   std::vector<double> w(spheres, 0), reached(spheres, 0);
   for (int k = 0; k < kRayKinds; ++k)
     for (std::uint32_t s = 0; s < spheres; ++s) {
-      w[s] += static_cast<double>(timing::work_cycles(previous.per_sphere[k][s], arch_.costs, arch_.kernel).busy());
+      w[s] += static_cast<double>(work_cycles(previous.per_sphere[k][s], arch_.costs, arch_.kernel).busy());
       reached[s] += static_cast<double>(previous.per_sphere[k][s].sphere_tests);
     }
   if (slices) {

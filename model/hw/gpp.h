@@ -15,7 +15,7 @@
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/functional_frame.h"
+#include "ref/functional_frame.h"
 #include "timing/gpp_plan.h"
 #include "timing/gpp_recipe.h"
 #include "timing/unit_run.h"
@@ -39,8 +39,8 @@
 
 namespace oprt::hw {
 
-using timing::FrameCommand, timing::FunctionalFrame, timing::GppFigures, timing::GppPhase, timing::GppPlan,
-    timing::GppWork, timing::MemoryLoad, timing::RayWrites, timing::Waiting;
+using timing::FrameCommand, timing::GppFigures, timing::GppPhase, timing::GppPlan, timing::GppWork, timing::MemoryLoad,
+    timing::RayWrites, timing::Waiting;
 
 // The frame's figures (timing/unit_run.h GppFigures: rays, geometry loaded and its wait, the
 // refit), and the times and counts only this module has.

@@ -11,7 +11,7 @@
 
 #include "balance/assign.h"
 #include "arch/arch.h"
-#include "timing/functional_frame.h"
+#include "ref/functional_frame.h"
 #include "timing/gpp_plan.h"
 #include "timing/object_memory_model.h"
 #include "timing/analytic_fifo.h"

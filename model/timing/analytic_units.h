@@ -14,7 +14,7 @@
 #include "arch/arch.h"
 #include "timing/analytic_bus.h"
 #include "timing/analytic_fifo.h"
-#include "timing/functional_frame.h"
+#include "ref/functional_frame.h"
 #include "timing/object_memory_model.h"
 #include "timing/pipeline_timing.h"
 #include "timing/serial_unit_timing.h"

@@ -19,8 +19,9 @@
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/bytes.h"
-#include "timing/functional_frame.h"
+#include "ref/bytes.h"
+#include "ref/functional_frame.h"
+#include "timing/frame_command.h"
 #include "timing/object_memory_model.h"
 #include "timing/visit_stream.h"
 #include "arch/cycle_schedule.h"

@@ -15,7 +15,7 @@
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/bytes.h"
+#include "ref/bytes.h"
 #include "timing/transfers.h"
 #include "timing/gpp_plan.h"
 

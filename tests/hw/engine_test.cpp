@@ -2,7 +2,7 @@
 // retired once, at both timing levels and under contention.
 #include "harness.h"
 #include "policy_driver.h"
-#include "timing/unit_cycles.h"
+#include "ref/work.h"
 #include "ref/camera.h"
 
 #include <catch2/catch.hpp>
@@ -16,7 +16,7 @@ namespace {
 // nearest hits, shade, send the shadow rays to every unit).
 // With `top`, each unit walks a tree over its spheres (built for this frame: the same tree
 // as one built for an earlier frame of the same assignment and refitted).
-std::vector<timing::UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<float>& g, const Assignment& a,
+std::vector<UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<float>& g, const Assignment& a,
                                         const CycleCosts& costs, int frame, int w, int h, bool top = false) {
   const FrameSetup<float> f = setup_frame(scene, g, frame);
   std::vector<IuRegisters<float>> regs(a.units());
@@ -49,8 +49,8 @@ std::vector<timing::UnitCycles> replay_busy(const Scene& scene, const SceneGeome
       for (const SpawnedRay<float>& s : shadow)
         for (std::size_t u = 0; u < a.units(); ++u) trace_any(g, regs[u], s.ray, add(u));
     }
-  std::vector<timing::UnitCycles> out;
-  for (const WorkCounts& wk : work) out.push_back(timing::work_cycles(wk, costs, g.kernel()));
+  std::vector<UnitCycles> out;
+  for (const WorkCounts& wk : work) out.push_back(work_cycles(wk, costs, g.kernel()));
   return out;
 }
 
@@ -205,7 +205,7 @@ void check_contended(const std::string& accel, std::uint64_t sram = 0, const std
   for (const auto& u : fb.units) {
     WorkCounts w = u.work[0];
     w += u.work[1];
-    CHECK(u.memory_bytes == w.tri_tests() * timing::Bytes<float>::triangle(Kernel::moller) + w.box_tests * timing::Bytes<float>::node);
+    CHECK(u.memory_bytes == w.tri_tests() * Bytes<float>::triangle(Kernel::moller) + w.box_tests * Bytes<float>::node);
     CHECK(u.cache == (sram && u.assigned_bytes > sram));
     if (u.cache) CHECK(u.memory.dram_bytes == 64 * u.memory.misses);
     else CHECK(u.memory.misses == 0);

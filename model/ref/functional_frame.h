@@ -14,16 +14,16 @@
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/bytes.h"
-#include "timing/unit_cycles.h"
+#include "ref/bytes.h"
 #include "ref/frame_trace.h"
 #include "ref/route.h"
+#include "ref/work.h"
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
-namespace oprt::timing {
+namespace oprt {
 
 // One unit's work on one ray, when it entered at least one sphere.
 struct UnitRayWork {
@@ -235,4 +235,4 @@ extern template void trace_functional(FunctionalFrame<double>&, const SceneGeome
                                       const std::vector<IuRegisters<double>>&, const CameraRays&,
                                       const Shader<double>&, const Arch&, int, int, bool, const RouteTable<double>*);
 
-}  // namespace oprt::timing
+}  // namespace oprt
