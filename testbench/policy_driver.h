@@ -21,7 +21,7 @@
 
 #include "balance/assign.h"
 #include "balance/policy.h"
-#include "timing/analytic.h"
+#include "analytic/engine.h"
 #include "arch/arch.h"
 #include "ref/scene_geometry.h"
 

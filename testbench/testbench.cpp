@@ -253,7 +253,7 @@ class Testbench : public sc_module {
 template <typename T>
 void run_analytic(RenderJob& job, SceneGeometry<T>& geometry) {
   const bool deforming = has_deforming(*job.scene);
-  timing::AnalyticEngine<T> engine(*job.scene, geometry, job.arch);
+  analytic::AnalyticEngine<T> engine(*job.scene, geometry, job.arch);
   PolicyDriver<T> policy(*job.scene, geometry, job.arch, job.assignment, job.width, job.height);
   std::unique_ptr<StatsWriter> stats;
   if (job.write_files) stats = std::make_unique<StatsWriter>(job.out_dir, job.header);

@@ -1,5 +1,5 @@
 // The GPP's plan for a frame, in plain C++: the one place its rules are written. The
-// SystemC GPP (hw/gpp.cpp) and the analytic level (analytic.cpp) both follow it; they differ
+// SystemC GPP (hw/gpp.cpp) and the analytic level (analytic/engine.cpp) both follow it; they differ
 // only in how they spend time (transactions and waits, or a recurrence).
 //  - Object memories (memory_loads): a unit's memory holds its spheres' geometry. The set-up
 //    loads every memory before the animation; a frame writes the geometry a unit gains when

@@ -1,7 +1,7 @@
 // The GPP's recipe, written once for both clocks: what each step of its work costs in GPP
 // cycles and which transfers it causes (destination, bytes); what the bus and a DRAM channel
 // charge for a transfer is in transfers.h. The SystemC modules (hw/gpp.cpp, bus.cpp, dram.cpp) and the
-// analytic level (analytic_gpp.cpp, analytic_bus.h, analytic_dram.h) follow it; they only
+// analytic level (analytic/gpp.cpp, analytic/bus.h, analytic/dram.h) follow it; they only
 // decide when time passes: a step calls its clock, which is either the SystemC GPP (a local
 // clock, transactions, waits) or the analytic GPP (a cycle count and calendars).
 //

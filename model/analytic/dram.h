@@ -6,14 +6,16 @@
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/analytic_bus.h"
+#include "analytic/bus.h"
 #include "timing/calendar.h"
 #include "timing/gpp_recipe.h"
 #include "timing/object_memory_model.h"
 
 #include <vector>
 
-namespace oprt::timing {
+namespace oprt::analytic {
+
+using timing::Calendar, timing::Cycle, timing::ObjectMemoryModel, timing::dram_line_cycles;
 
 class AnalyticDram {
  public:
@@ -55,4 +57,4 @@ class AnalyticDram {
   const Cycles line_cycles_;
 };
 
-}  // namespace oprt::timing
+}  // namespace oprt::analytic

@@ -16,7 +16,9 @@
 #include <set>
 #include <vector>
 
-namespace oprt::timing {
+namespace oprt::analytic {
+
+using timing::Calendar, timing::FrameRun, timing::PipelinedUnitTiming, timing::bus_occupancy;
 
 class AnalyticBus {
  public:
@@ -85,4 +87,4 @@ class AnalyticBus {
   std::uint64_t seq_ = 0;
 };
 
-}  // namespace oprt::timing
+}  // namespace oprt::analytic
