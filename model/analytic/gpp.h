@@ -37,7 +37,7 @@ class AnalyticGpp final : public AnswerSink {
   Cycles run();
   const Waiting<Cycles>& waiting() const { return work_->waiting(); }
 
-  // The recipe's clock (gpp_recipe.h).
+  // The recipe's clock (timing/gpp_clock.h), called by its steps only (timing/gpp_recipe.h).
   void compute(GppPhase phase, std::uint64_t cycles);
   void load(const MemoryLoad& l);
   void write_config(std::uint32_t, std::uint64_t bytes) { g_ = bus_.transfer(g_, bytes); }
@@ -72,5 +72,7 @@ class AnalyticGpp final : public AnswerSink {
 
 extern template class AnalyticGpp<float>;
 extern template class AnalyticGpp<double>;
+static_assert(timing::is_gpp_clock_v<AnalyticGpp<float>> && timing::is_gpp_clock_v<AnalyticGpp<double>>,
+              "the analytic GPP is the recipe's clock (timing/gpp_clock.h)");
 
 }  // namespace oprt::analytic

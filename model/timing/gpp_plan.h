@@ -111,6 +111,14 @@ struct Waiting {
 // The order of the GPP's work, at either level, in its own time type (sc_time or cycles).
 // A routed ray (ref/route.h) goes out in waves: when a wave's answers are all in and the ray
 // has another wave, that wave is written next (before pending shadow rays).
+// The units a ray's next wave goes to (routed: a range of FunctionalFrame::route_units,
+// flagged entries; broadcast: empty, meaning every unit), and whether it is the ray's first.
+struct GppWave {
+  const std::uint32_t *first = nullptr, *last = nullptr;
+  bool initial = true;
+  std::size_t size(std::size_t units) const { return first ? static_cast<std::size_t>(last - first) : units; }
+};
+
 template <typename T, typename Time>
 class GppWork {
  public:
@@ -187,13 +195,7 @@ class GppWork {
     issued_at_[id] = now;
     return id;
   }
-  // The units ray `id`'s next wave goes to (routed: a range of FunctionalFrame::route_units,
-  // flagged entries; broadcast: empty, meaning every unit), and whether it is the ray's first.
-  struct Wave {
-    const std::uint32_t *first = nullptr, *last = nullptr;
-    bool initial = true;
-    std::size_t size(std::size_t units) const { return first ? static_cast<std::size_t>(last - first) : units; }
-  };
+  using Wave = GppWave;
   // How many units' bounds ray `id` entered (routed only).
   std::size_t entered(std::uint32_t id) const { return f_.routed ? f_.route_entered(id) : 0; }
   Wave wave(std::uint32_t id) const {
