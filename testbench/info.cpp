@@ -7,7 +7,7 @@
 #include "geom/bounding_sphere.h"
 #include "arch/cycle_schedule.h"
 #include "options.h"
-#include "policy_driver.h"
+#include "ref/balance_inputs.h"
 #include "ref/frame_setup.h"
 #include "render.h"
 #include "base/error.h"

@@ -9,7 +9,7 @@
 #include "scene/load.h"
 #include "memory_estimate.h"
 #include "outputs.h"
-#include "policy_driver.h"
+#include "ref/balance_inputs.h"
 #include "base/numbers.h"
 #include "testbench.h"
 #include "hw/local_clock.h"
