@@ -15,7 +15,7 @@
 
 namespace oprt::analytic {
 
-using timing::Calendar, timing::Cycle, timing::ObjectMemoryModel, timing::dram_line_cycles;
+using timing::Cycle, timing::ObjectMemoryModel, timing::dram_line_cycles;  // Calendar: analytic/bus.h
 
 class AnalyticDram {
  public:
