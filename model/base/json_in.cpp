@@ -1,6 +1,7 @@
 #include "base/json_in.h"
 
 #include "base/numbers.h"
+#include "base/read_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -86,15 +87,7 @@ nlohmann::json JsonIn::parse_text(const std::string& text, const std::string& fi
   }
 }
 
-nlohmann::json JsonIn::parse_file(const std::string& file) {
-  require_regular_file(file);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file, "", "cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(file, "", "cannot read file");
-  return parse_text(ss.str(), file);
-}
+nlohmann::json JsonIn::parse_file(const std::string& file) { return parse_text(read_file_text(file), file); }
 
 void JsonIn::fail(const std::string& problem) const { throw InputError(file_, place(), problem); }
 
