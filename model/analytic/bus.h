@@ -1,5 +1,5 @@
 // The analytic level's bus (hw/bus.h): every transfer counted, and on a shared bus held
-// bus_occupancy() cycles (gpp_recipe.h), first come first served in a calendar. The units'
+// bus_occupancy() cycles (timing/gpp_recipe.h), first come first served in a calendar. The units'
 // answers wait here for it and are granted in the order of their requests, when the GPP's
 // time passes them (before its own writes) or when the GPP waits: the SystemC bus grants
 // them in request order because the units send them in time order.

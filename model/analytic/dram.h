@@ -2,7 +2,7 @@
 // by several units (memory.dram.units_per_channel > 1), or misses over the shared bus. Each
 // unit's misses reserve their channel's calendar (and the bus's) in the order the units' rays
 // are timed (the SystemC DRAM grants them in time order instead). A line takes
-// dram_line_cycles() of its channel (gpp_recipe.h) and arrives latency_cycles after.
+// dram_line_cycles() of its channel (timing/gpp_recipe.h) and arrives latency_cycles after.
 #pragma once
 
 #include "arch/arch.h"

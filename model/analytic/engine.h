@@ -1,7 +1,7 @@
 // The analytic level: no SystemC process per ray. It follows the same plan and recipe as the
-// SystemC GPP (gpp_plan.h, gpp_recipe.h: the loads, the registers, the functional trace, the
+// SystemC GPP (timing/gpp_plan.h, gpp_recipe.h: the loads, the registers, the functional trace, the
 // order of work, what each step costs and writes) and times the units with the same unit
-// timing (serial_unit_timing.h, pipeline_timing.h) and the same object memories
+// timing (timing/serial_unit_timing.h, pipeline_timing.h) and the same object memories
 // (object_memory_model.h); only the way time passes differs: instead of events, a recurrence
 // over the order in which rays enter the FIFOs, which is the order the GPP issues them. Its
 // parts mirror the SystemC modules: analytic/gpp.h (hw/gpp.h), analytic/bus.h (hw/bus.h),

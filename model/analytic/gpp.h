@@ -1,5 +1,5 @@
 // The analytic level's GPP (hw/gpp.cpp) for one frame: the plan's order of work (GppWork) and
-// the recipe's steps (gpp_recipe.h), timed by a cycle count instead of a local clock. It is
+// the recipe's steps (timing/gpp_recipe.h), timed by a cycle count instead of a local clock. It is
 // the recipe's clock: it spends the GPP's cycles, writes through the bus (analytic/bus.h) to
 // the units' FIFOs (analytic/ray_fifo.h, analytic/units.h) and collects their answers.
 //   A unit's timing for a ray depends only on rays issued before it, so each ray is timed

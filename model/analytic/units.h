@@ -1,5 +1,5 @@
 // The analytic level's intersection units (hw/serial_unit.cpp, pipelined_unit.cpp): the same
-// unit timing (serial_unit_timing.h, pipeline_timing.h) through the same object memories
+// unit timing (timing/serial_unit_timing.h, pipeline_timing.h) through the same object memories
 // (object_memory_model.h), placed by a recurrence instead of events:
 //  - a serial unit starts a ray at max(when it finished its previous ray, when the ray
 //    arrived); on a shared bus it waits for its answer's grant, so a ray reaching it
