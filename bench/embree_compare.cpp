@@ -31,7 +31,7 @@
 #include "ref/frame_trace.h"
 #include "ref/shading.h"
 #include "ref/traverse.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/load.h"
 
 #include <CLI/CLI.hpp>

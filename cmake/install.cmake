@@ -5,7 +5,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(OPRT_LIBRARIES oprt_geom oprt_scene oprt_balance oprt_ref oprt_timing oprt_trace oprt_hw)
+set(OPRT_LIBRARIES oprt_base oprt_geom oprt_scene oprt_arch oprt_balance oprt_ref oprt_timing oprt_analytic oprt_cost oprt_trace oprt_hw)
 foreach(lib IN LISTS OPRT_LIBRARIES)
   string(REPLACE "oprt_" "" name ${lib})
   set_target_properties(${lib} PROPERTIES EXPORT_NAME ${name})
@@ -27,10 +27,12 @@ if(OPRT_SANITIZE)  # instrumented libraries need the sanitizers' runtimes
   list(APPEND OPRT_EXPORTED_OPTIONS -fsanitize=address,undefined -fno-omit-frame-pointer)
   list(APPEND OPRT_EXPORTED_LINK_OPTIONS -fsanitize=address,undefined)
 endif()
-target_compile_features(oprt_geom PUBLIC cxx_std_17)
-target_compile_options(oprt_geom INTERFACE "$<INSTALL_INTERFACE:${OPRT_EXPORTED_OPTIONS}>")
-target_compile_definitions(oprt_geom INTERFACE "$<INSTALL_INTERFACE:OPRT_FP_CONTRACT_OFF=1>")
-target_link_options(oprt_geom INTERFACE "$<INSTALL_INTERFACE:${OPRT_EXPORTED_LINK_OPTIONS}>")
+foreach(lib oprt_base oprt_geom)  # the two bottom layers: every other library links one of them
+  target_compile_features(${lib} PUBLIC cxx_std_17)
+  target_compile_options(${lib} INTERFACE "$<INSTALL_INTERFACE:${OPRT_EXPORTED_OPTIONS}>")
+  target_compile_definitions(${lib} INTERFACE "$<INSTALL_INTERFACE:OPRT_FP_CONTRACT_OFF=1>")
+  target_link_options(${lib} INTERFACE "$<INSTALL_INTERFACE:${OPRT_EXPORTED_LINK_OPTIONS}>")
+endforeach()
 
 install(TARGETS ${OPRT_LIBRARIES} oprt_model fstapi EXPORT oprtTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS oprt EXPORT oprtTargets RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

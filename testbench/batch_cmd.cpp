@@ -9,7 +9,7 @@
 #include "batch.h"
 
 #include "render.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "ref/stop.h"
 
 #include <nlohmann/json.hpp>

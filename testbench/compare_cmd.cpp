@@ -2,7 +2,7 @@
 // size, as one JSON object on stdout (model/ref/image_compare.h defines the metrics).
 #include "commands.h"
 #include "ref/image_compare.h"
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <cstdio>
 #include <stdexcept>

@@ -27,7 +27,7 @@ FrameStats frame_stats(const timing::FrameRun& run, const RenderJob& job, const 
   fs.sphere_entries.assign(geometry.sphere_count(), {});
   for (int k = 0; k < kRayKinds; ++k)
     for (std::uint32_t s = 0; s < geometry.sphere_count(); ++s) {
-      fs.sphere_cycles[s] += timing::work_cycles(run.per_sphere[k][s], job.arch.costs, job.arch.kernel).busy();
+      fs.sphere_cycles[s] += work_cycles(run.per_sphere[k][s], job.arch.costs, job.arch.kernel).busy();
       fs.sphere_entries[s][k] += run.per_sphere[k][s].transforms;
     }
   for (std::size_t u = 0; u < run.units.size(); ++u) {
@@ -40,7 +40,7 @@ FrameStats frame_stats(const timing::FrameRun& run, const RenderJob& job, const 
     // Pipelined: idle while it holds no ray (its stall overlaps the stages' work).
     const std::uint64_t used = r.pipeline ? r.pipeline->occupied : r.cycles.busy() + r.cycles.stall;
     us.idle = fs.makespan > used ? fs.makespan - used : 0;
-    us.config_bytes = us.spheres.size() * timing::Bytes<T>::sphere_config;
+    us.config_bytes = us.spheres.size() * Bytes<T>::sphere_config;
     for (std::uint32_t s : us.spheres) us.memory_capacity_bytes += geometry.memory_bytes(s);
     fs.units.push_back(std::move(us));
   }

@@ -2,7 +2,7 @@
 // image and the statistics, keep them for tests, and print a line.
 #pragma once
 
-#include "timing/analytic.h"
+#include "analytic/engine.h"
 #include "render_job.h"
 
 namespace oprt {

@@ -7,10 +7,10 @@
 #include "geom/bounding_sphere.h"
 #include "arch/cycle_schedule.h"
 #include "options.h"
-#include "policy_driver.h"
+#include "ref/balance_inputs.h"
 #include "ref/frame_setup.h"
 #include "render.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/load.h"
 
 #include <algorithm>

@@ -11,8 +11,8 @@
 #include "render.h"
 #include "ref/parallel.h"
 #include "ref/stop.h"
-#include "scene/error.h"
-#include "scene/numbers.h"
+#include "base/error.h"
+#include "base/numbers.h"
 
 #include <CLI/CLI.hpp>
 
@@ -29,7 +29,7 @@
 namespace {
 
 // Numbers on the command line are taken as text and read by the one parser of their kind
-// (scene/numbers.h), after CLI11 has parsed the line, so that every message states the
+// (base/numbers.h), after CLI11 has parsed the line, so that every message states the
 // real limit. Each numeric option registers how to convert its text here.
 class Numbers {
  public:

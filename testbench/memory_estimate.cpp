@@ -1,8 +1,8 @@
 #include "memory_estimate.h"
 
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/load.h"
-#include "scene/numbers.h"
+#include "base/numbers.h"
 
 #include <fstream>
 #include <sstream>

@@ -7,7 +7,7 @@
 #pragma once
 
 #include "cost/host_memory.h"
-#include "scene/numbers.h"
+#include "base/numbers.h"
 
 #include <cstdint>
 #include <optional>

@@ -1,5 +1,5 @@
 // The command line's value syntaxes built from numbers (--frames, --resolution), shared by the
-// oprt subcommands; each number is read by scene/numbers.h. Bad values throw InputError
+// oprt subcommands; each number is read by base/numbers.h. Bad values throw InputError
 // naming the option.
 #pragma once
 

@@ -1,7 +1,7 @@
 #include "outputs.h"
 
 #include "ref/image.h"
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <algorithm>
 #include <cctype>

@@ -8,7 +8,7 @@
 #include "timing/cache.h"
 #include "cost/cost_model.h"
 #include "timing/pipeline_timing.h"
-#include "timing/unit_cycles.h"
+#include "ref/work.h"
 #include "timing/unit_run.h"
 #include "ref/work.h"
 #include "frame_log.h"

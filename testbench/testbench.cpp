@@ -2,9 +2,11 @@
 
 #include "frame_output.h"
 #include "gtkwave.h"
-#include "policy_driver.h"
+#include "balance/policy_driver.h"
 #include "hw/watchdog.h"
+#include "ref/balance_inputs.h"
 #include "ref/frame_setup.h"
+#include "timing/measured_frame.h"
 #include "ref/stop.h"
 
 #include <algorithm>
@@ -49,7 +51,8 @@ class Testbench : public sc_module {
       memory_ = std::make_unique<hw::Dram>("dram", job.arch, job.assignment.units(), hw::addr::dram_base);
       engine_->mem.bind(memory_->in);
     }
-    policy_ = std::make_unique<PolicyDriver<T>>(*job.scene, geometry, job.arch, job.assignment, job.width, job.height);
+    policy_ = std::make_unique<PolicyDriver>(*job.scene, policy_inputs(*job.scene, geometry, job.arch), job.arch,
+                                             job.assignment, job.width, job.height);
     if (job.progress)
       engine_->gpp().on_progress([this](std::uint64_t done, std::uint64_t total) { progress(done, total); });
     if (job.write_files) stats_ = std::make_unique<StatsWriter>(job.out_dir, job.header);
@@ -86,8 +89,9 @@ class Testbench : public sc_module {
       if (sel.frames && f == sel.frames->first)
         set_trace_window(std::max<std::uint64_t>(sel.from_ps, sc_time_stamp().value()), sel.to_ps);
       engine_->run_frame(cmd);
-      previous_ = collect();
-      const FrameStats fs = frame_stats(*previous_, job_, geometry_, f, seconds_since(t0), image);
+      const timing::FrameRun run = collect();
+      previous_ = timing::measured_frame(run, job_.arch);
+      const FrameStats fs = frame_stats(run, job_, geometry_, f, seconds_since(t0), image);
       finish_frame(job_, stats_.get(), fs, std::move(image));
       last_frame_end_ = sc_time_stamp().value();
       if (vcd_) vcd_->flush_before(last_frame_end_);
@@ -245,19 +249,20 @@ class Testbench : public sc_module {
   std::unique_ptr<hw::Engine<T>> engine_;
   std::unique_ptr<hw::Dram> memory_;  // behind the engine's memory port ("external")
   std::unique_ptr<StatsWriter> stats_;
-  std::unique_ptr<PolicyDriver<T>> policy_;
-  std::optional<timing::FrameRun> previous_;
+  std::unique_ptr<PolicyDriver> policy_;
+  std::optional<MeasuredFrame> previous_;  // what the frame before measured, for the balance policy
 };
 
 // The analytic level: the same frames, no SystemC.
 template <typename T>
 void run_analytic(RenderJob& job, SceneGeometry<T>& geometry) {
   const bool deforming = has_deforming(*job.scene);
-  timing::AnalyticEngine<T> engine(*job.scene, geometry, job.arch);
-  PolicyDriver<T> policy(*job.scene, geometry, job.arch, job.assignment, job.width, job.height);
+  analytic::AnalyticEngine<T> engine(*job.scene, geometry, job.arch);
+  PolicyDriver policy(*job.scene, policy_inputs(*job.scene, geometry, job.arch), job.arch, job.assignment, job.width,
+                      job.height);
   std::unique_ptr<StatsWriter> stats;
   if (job.write_files) stats = std::make_unique<StatsWriter>(job.out_dir, job.header);
-  std::optional<timing::FrameRun> previous;
+  std::optional<MeasuredFrame> previous;
   for (int f = job.frames.first; f <= job.frames.last; ++f) {
     if (const int s = stop_signal())
       throw Interrupted(s, frames_completed(job.frames.first, job.frames.last, job.completed));
@@ -267,8 +272,8 @@ void run_analytic(RenderJob& job, SceneGeometry<T>& geometry) {
     engine.assign(job.assignment);
     if (f == job.frames.first) engine.setup();
     FrameImage image(job.width, job.height);
-    previous = engine.run_frame(frame_command(job, f, image));
-    const timing::FrameRun& run = *previous;
+    const timing::FrameRun run = engine.run_frame(frame_command(job, f, image));
+    previous = timing::measured_frame(run, job.arch);
     const FrameStats fs = frame_stats(run, job, geometry, f, seconds_since(t0), image);
     finish_frame(job, stats.get(), fs, std::move(image));
   }

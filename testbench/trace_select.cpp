@@ -1,7 +1,7 @@
 #include "trace_select.h"
 
-#include "scene/error.h"
-#include "scene/numbers.h"
+#include "base/error.h"
+#include "base/numbers.h"
 
 #include <algorithm>
 #include <cctype>

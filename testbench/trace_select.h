@@ -4,7 +4,7 @@
 #pragma once
 
 #include "options.h"
-#include "scene/numbers.h"  // parse_time_ps, format_time_ps
+#include "base/numbers.h"  // parse_time_ps, format_time_ps
 
 #include <cstdint>
 #include <optional>

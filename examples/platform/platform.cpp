@@ -18,7 +18,7 @@
 #include "ref/frame_setup.h"
 #include "ref/image.h"
 #include "ref/scene_geometry.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/load.h"
 
 #include <cstdio>

@@ -1,8 +1,8 @@
 #include "arch/arch.h"
 
-#include "balance/spatial.h"
-#include "scene/json_in.h"
-#include "scene/numbers.h"
+#include "base/json_in.h"
+#include "base/numbers.h"
+#include "geom/ray.h"  // kMaxDepth
 
 #include <cctype>
 #include <cmath>

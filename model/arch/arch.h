@@ -52,6 +52,9 @@ struct IuConfig {
   } node, sphere, transform, box, triangle;  // node: --top bvh; box: --accel bvh
 };
 
+// The middle of the trade: --balance spatial's locality when none is given.
+constexpr double kDefaultLocality = 0.5;
+
 struct Arch {
   std::string source = "built-in defaults";
   double clock_mhz = 100;
@@ -96,8 +99,8 @@ struct Arch {
   Level level = Level::at;
   double quantum_ns = 1000;
   std::string balance = "paper";
-  // Tight unit bounds (1) against balance (0) for `spatial` (unset: balance/spatial.h's
-  // default) and `feedback` (unset: feedback on costs alone, as before locality existed).
+  // Tight unit bounds (1) against balance (0) for `spatial` (unset: kDefaultLocality) and
+  // `feedback` (unset: feedback on costs alone, as before locality existed).
   std::optional<double> locality;
   // Copies of hot spheres on several units (balance/replicate.h): 0 off, kReplicateAuto, or
   // at most that many copies of a sphere.
@@ -150,7 +153,7 @@ nlohmann::json to_json(const Arch& a);
 // Throws InputError(file, place) if a limited object memory cannot hold one cache set.
 void check_sram(const Arch& a, const std::string& file, const std::string& place);
 
-// "10 ns", "1us", "100 us", "2.5 ms" -> nanoseconds (scene/numbers.h parse_time_ps). Throws
+// "10 ns", "1us", "100 us", "2.5 ms" -> nanoseconds (base/numbers.h parse_time_ps). Throws
 // InputError naming `what`.
 double parse_time_ns(const std::string& text, const std::string& what);
 

@@ -1,5 +1,6 @@
 #include "balance/extent_split.h"
 
+#include "balance/split_prims.h"
 #include "geom/bounding_sphere.h"
 #include "geom/bvh.h"
 
@@ -43,11 +44,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 using Bounds = Box<double>;  // geom/bvh.h
 
-struct Item {
-  std::uint32_t id;
-  Vec3d centroid;
-  Bounds box;
-};
+using Item = SplitPrim;
 
 void sort_on(std::vector<Item>& items, int axis) {
   std::sort(items.begin(), items.end(), [axis](const Item& a, const Item& b) {
@@ -108,16 +105,7 @@ class Splitter {
 std::vector<std::vector<std::uint32_t>> split_by_extent(const Mesh& mesh, const std::vector<std::uint32_t>& prims,
                                                         const ExtentCosts& costs) {
   const Splitter sp(mesh, costs);
-  std::vector<Item> all;
-  all.reserve(prims.size());
-  for (std::uint32_t t : prims) {
-    Item it{t, Vec3d(0), {}};
-    for (std::uint32_t v : mesh.triangles[t]) {
-      it.centroid += mesh.vertices[v] / 3.0;
-      it.box.extend(mesh.vertices[v]);
-    }
-    all.push_back(it);
-  }
+  std::vector<Item> all = split_prims(mesh, prims);
   std::vector<std::vector<std::uint32_t>> out;
   struct Node {
     std::vector<Item> items;

@@ -38,6 +38,7 @@
 // Deterministic: no ties are left to the order of evaluation.
 #pragma once
 
+#include "arch/arch.h"  // kDefaultLocality
 #include "balance/assign.h"
 #include "geom/bvh.h"
 
@@ -45,9 +46,6 @@
 #include <vector>
 
 namespace oprt {
-
-// The middle of the trade: --balance spatial's locality when none is given.
-constexpr double kDefaultLocality = 0.5;
 
 // Step 1: `groups` regions (at most one per sphere with a box), each listed ascending, in
 // tree order. Spheres with an empty box are in none.

@@ -4,7 +4,7 @@
 #include "balance/hull_area.h"
 #include "balance/subdivide.h"
 #include "geom/bounding_sphere.h"
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <algorithm>
 #include <cctype>

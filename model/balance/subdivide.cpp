@@ -1,5 +1,6 @@
 #include "balance/subdivide.h"
 
+#include "balance/split_prims.h"
 #include "geom/bvh.h"
 
 #include <algorithm>
@@ -13,11 +14,7 @@ namespace {
 // geom/bvh.h; diagonal2() is proportional to the area of a sphere around it
 using Bounds = Box<double>;
 
-struct Prim {
-  std::uint32_t id;
-  Vec3d centroid;
-  Bounds box;
-};
+using Prim = SplitPrim;
 
 // Split `prims` into k clusters. The rule serves the balance the clusters are made for: a
 // cluster's expected work is proportional to its sphere's surface area times its primitive
@@ -104,16 +101,7 @@ std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, int k, Split
 
 std::vector<std::vector<std::uint32_t>> subdivide(const Mesh& mesh, const std::vector<std::uint32_t>& ids, int k,
                                                   SplitRule rule) {
-  std::vector<Prim> prims;
-  prims.reserve(ids.size());
-  for (std::uint32_t t : ids) {
-    Prim q{t, Vec3d(0), {}};
-    for (std::uint32_t v : mesh.triangles[t]) {
-      q.centroid += mesh.vertices[v] / 3.0;
-      q.box.extend(mesh.vertices[v]);
-    }
-    prims.push_back(q);
-  }
+  std::vector<Prim> prims = split_prims(mesh, ids);
   const int clusters = std::min<int>(k, static_cast<int>(prims.size()));
   std::vector<std::vector<std::uint32_t>> out;
   if (rule == SplitRule::median) split_median(std::move(prims), clusters, out);

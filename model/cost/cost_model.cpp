@@ -1,9 +1,9 @@
 #include "cost/cost_model.h"
 
 #include "geom/bvh.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "geom/triangle_soa.h"
-#include "timing/bytes.h"
+#include "ref/bytes.h"
 
 #include <cmath>
 #include <sstream>
@@ -382,11 +382,11 @@ std::uint64_t object_memory_bytes(std::uint64_t triangles, std::uint64_t bvh_nod
 }
 
 std::uint64_t config_bytes(std::uint64_t spheres, bool double_precision) {
-  return spheres * (double_precision ? timing::Bytes<double>::sphere_config : timing::Bytes<float>::sphere_config);
+  return spheres * (double_precision ? Bytes<double>::sphere_config : Bytes<float>::sphere_config);
 }
 
 std::uint32_t ray_bytes(bool double_precision) {
-  return double_precision ? timing::Bytes<double>::ray : timing::Bytes<float>::ray;
+  return double_precision ? Bytes<double>::ray : Bytes<float>::ray;
 }
 
 }  // namespace oprt

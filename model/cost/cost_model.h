@@ -114,7 +114,7 @@ struct UnitSize {
 struct Design {
   IuUnits iu;
   std::vector<UnitSize> units;  // one per instantiated IU
-  std::uint32_t ray_bytes = 0;  // one FIFO entry (timing::Bytes<T>::ray)
+  std::uint32_t ray_bytes = 0;  // one FIFO entry (Bytes<T>::ray)
   bool double_precision = false;
   // --route: the GPP's router, a box-test unit with its adders and multipliers, and a
   // register per unit bound.

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "arch/arch.h"
-#include "scene/numbers.h"
+#include "base/numbers.h"
 #include "scene/scene.h"
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 #include "cost/sizing.h"
 
-#include "timing/bytes.h"
+#include "ref/bytes.h"
 #include "timing/gpp_plan.h"
 #include "timing/pipeline_timing.h"
 
@@ -11,7 +11,7 @@ namespace oprt {
 namespace {
 template <typename T>
 StoreBytes store_bytes_of() {
-  return {timing::Bytes<T>::ray, 6 * sizeof(T)};
+  return {Bytes<T>::ray, 6 * sizeof(T)};
 }
 }  // namespace
 

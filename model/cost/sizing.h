@@ -14,7 +14,7 @@
 
 namespace oprt {
 
-// What a pipelined IU's ray store holds per ray slot: the ray (timing::Bytes<T>::ray) and its
+// What a pipelined IU's ray store holds per ray slot: the ray (Bytes<T>::ray) and its
 // local-frame copy (origin and direction); and each entry of its traversal stack (a node index).
 struct StoreBytes {
   std::uint64_t ray, local_ray;

@@ -1,6 +1,6 @@
 #include "cost/tech.h"
 
-#include "scene/json_in.h"
+#include "base/json_in.h"
 
 #include <cmath>
 #include <set>

@@ -47,7 +47,7 @@
 
 namespace oprt::hw {
 
-using timing::FrameCommand, timing::FunctionalFrame;
+using timing::FrameCommand;
 
 template <typename T>
 class Engine : public sc_core::sc_module {

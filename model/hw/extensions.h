@@ -17,8 +17,9 @@
 // the payload owns its extension (every transaction here is blocking: no memory manager).
 #pragma once
 
-#include "timing/bytes.h"
+#include "ref/bytes.h"
 #include "timing/cycle.h"
+#include "timing/frame_command.h"
 #include "timing/object_memory_model.h"
 #include "ref/traverse.h"
 
@@ -32,8 +33,7 @@
 
 namespace oprt::hw {
 
-using timing::BurstConsumer, timing::Bytes, timing::Cycle, timing::FrameCommand, timing::MemoryLoad,
-    timing::RayRecord, timing::VisitStream;
+using timing::BurstConsumer, timing::Cycle, timing::FrameCommand, timing::MemoryLoad, timing::VisitStream;
 
 // Bus address map. Each unit i owns a window at iu_base + i * iu_stride.
 namespace addr {

@@ -7,7 +7,7 @@
 
 namespace oprt::hw {
 
-using timing::RayRecord, timing::issue_ray, timing::kWaveEnd, timing::retire_ray, timing::start_frame;
+using timing::issue_ray, timing::retire_ray, timing::start_frame;
 
 using namespace sc_core;
 

@@ -15,7 +15,7 @@
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/functional_frame.h"
+#include "ref/functional_frame.h"
 #include "timing/gpp_plan.h"
 #include "timing/gpp_recipe.h"
 #include "timing/unit_run.h"
@@ -39,8 +39,8 @@
 
 namespace oprt::hw {
 
-using timing::FrameCommand, timing::FunctionalFrame, timing::GppFigures, timing::GppPhase, timing::GppPlan,
-    timing::GppWork, timing::MemoryLoad, timing::RayWrites, timing::Waiting;
+using timing::FrameCommand, timing::GppFigures, timing::GppPhase, timing::GppPlan, timing::GppWork, timing::MemoryLoad,
+    timing::RayWrites, timing::Waiting;
 
 // The frame's figures (timing/unit_run.h GppFigures: rays, geometry loaded and its wait, the
 // refit), and the times and counts only this module has.
@@ -71,7 +71,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
   void on_progress(std::function<void(std::uint64_t, std::uint64_t)> f) { progress_ = std::move(f); }
   std::string waiting_for() const override;
 
-  // The recipe's clock (timing/gpp_recipe.h), called by its steps only.
+  // The recipe's clock (timing/gpp_clock.h), called by its steps only (timing/gpp_recipe.h).
   void compute(GppPhase phase, std::uint64_t cycles);
   void load(const MemoryLoad& l);
   void write_config(std::uint32_t unit, std::uint64_t bytes);
@@ -140,5 +140,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
 
 extern template class Gpp<float>;
 extern template class Gpp<double>;
+static_assert(timing::is_gpp_clock_v<Gpp<float>> && timing::is_gpp_clock_v<Gpp<double>>,
+              "the SystemC GPP is the recipe's clock (timing/gpp_clock.h)");
 
 }  // namespace oprt::hw

@@ -2,7 +2,7 @@
 
 namespace oprt::hw {
 
-using timing::Bytes;
+
 
 using namespace sc_core;
 

@@ -5,7 +5,7 @@
 //   bus   answers to the GPP (WireAnswer bytes)
 //   mem   its object memory: a visit's reads (VisitReadExtension)
 //   fifo  its ray FIFO (RayFifoIf), which it pops
-// The work itself was traced before the frame's timing (timing/functional_frame.h); a unit
+// The work itself was traced before the frame's timing (ref/functional_frame.h); a unit
 // looks up its record for each ray it pops, times it with the plain-C++ unit timing that
 // every level shares, and sends the recorded answer.
 #pragma once
@@ -14,7 +14,7 @@
 #include "hw/local_clock.h"
 #include "hw/ray_fifo.h"
 #include "hw/watchdog.h"
-#include "timing/functional_frame.h"
+#include "ref/functional_frame.h"
 #include "timing/pipeline_timing.h"
 
 #include <systemc>
@@ -27,8 +27,7 @@
 
 namespace oprt::hw {
 
-using timing::BurstConsumer, timing::Cycle, timing::FunctionalFrame, timing::PipelineStats, timing::UnitRayWork,
-    timing::VisitStream;
+using timing::BurstConsumer, timing::Cycle, timing::PipelineStats, timing::VisitStream;
 
 // What a unit measured in the frame, beside its work (the trace's).
 struct UnitStats {

@@ -12,8 +12,8 @@
 //    Local time is then the time its last ray finished, or simulation time if later.
 #pragma once
 
-#include "scene/error.h"
-#include "scene/numbers.h"
+#include "base/error.h"
+#include "base/numbers.h"
 
 #include <algorithm>
 

@@ -2,8 +2,8 @@
 
 namespace oprt::hw {
 
-using timing::PipeStage, timing::PipelineConfig, timing::PipelineRay, timing::PipelineTrace, timing::UnitRayWork,
-    timing::kPipeStages, timing::pipeline_config, timing::to_string;
+using timing::PipeStage, timing::PipelineConfig, timing::PipelineRay, timing::PipelineTrace, timing::kPipeStages,
+    timing::pipeline_config, timing::to_string;
 
 using namespace sc_core;
 

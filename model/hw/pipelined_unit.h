@@ -29,8 +29,8 @@
 
 namespace oprt::hw {
 
-using timing::BurstConsumer, timing::Cycle, timing::FunctionalFrame, timing::PipelineRayBuilder,
-    timing::PipelinedUnitTiming, timing::VisitReader, timing::VisitStream;
+using timing::BurstConsumer, timing::Cycle, timing::PipelineRayBuilder, timing::PipelinedUnitTiming,
+    timing::VisitReader, timing::VisitStream;
 
 template <typename T>
 class PipelinedUnit : public IntersectionUnit<T>, private VisitReader {

@@ -2,8 +2,8 @@
 
 namespace oprt::hw {
 
-using timing::BurstConsumer, timing::Bytes, timing::Cycle, timing::RayRecord, timing::VisitStream, timing::VisitWork,
-    timing::cached_visit, timing::serial_ray, timing::to_string;
+using timing::BurstConsumer, timing::Cycle, timing::VisitStream, timing::cached_visit, timing::serial_ray,
+    timing::to_string;
 
 using namespace sc_core;
 

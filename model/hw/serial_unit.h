@@ -24,7 +24,7 @@
 
 namespace oprt::hw {
 
-using timing::CachedVisits, timing::FunctionalFrame, timing::GeometryAddresses, timing::UnitRayWork, timing::UnitState;
+using timing::CachedVisits, timing::GeometryAddresses, timing::UnitState;
 
 template <typename T>
 class SerialUnit : public IntersectionUnit<T> {

@@ -23,7 +23,7 @@
 
 namespace oprt {
 
-// Memory-order log of one sphere visit for the memory model (timing/memory_timing.h): per item
+// Memory-order log of one sphere visit for the memory model (ref/memory_timing.h): per item
 // a triangle's exit stage (0..3), or kLogNode for a node fetched and box-tested.
 constexpr std::uint8_t kLogNode = 0xFF;
 

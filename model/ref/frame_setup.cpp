@@ -1,6 +1,6 @@
 #include "ref/frame_setup.h"
 
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <cmath>
 

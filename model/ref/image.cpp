@@ -1,7 +1,7 @@
 #include "ref/image.h"
 #include "ref/parallel.h"
 
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>

@@ -1,7 +1,7 @@
 #include "ref/scene_geometry.h"
 
 #include "geom/bounding_sphere.h"
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,10 @@
 // Work counts: what the intersection units charge cycles for. Counted by the functional
-// traversal (traverse.h), per sphere and ray kind; the timed model and the analytic level
-// multiply them by the architecture's cycle costs.
+// traversal (traverse.h), per sphere and ray kind; the cycles they cost under the
+// architecture's cycle costs (UnitCycles), the same for the SystemC unit, the analytic level
+// and the functional trace (functional_frame.h), which charges each visit.
 #pragma once
 
+#include "arch/cycle_costs.h"
 #include "geom/ray.h"
 #include "geom/triangle.h"
 
@@ -42,5 +44,49 @@ struct WorkCounts {
            box_setups == o.box_setups && box_tests == o.box_tests && node_tests == o.node_tests;
   }
 };
+
+// Cycles an intersection unit spends, by activity.
+struct UnitCycles {
+  std::uint64_t sphere = 0, transform = 0, primitive = 0;  // busy
+  std::uint64_t box = 0;    // busy, --accel bvh: box set-ups and box tests
+  std::uint64_t node = 0;   // busy, --top bvh: node tests of the unit's tree over its spheres
+  std::uint64_t stall = 0;  // waiting for object memory or for the bus
+  std::uint64_t busy() const { return sphere + transform + box + primitive + node; }
+  UnitCycles& operator+=(const UnitCycles& o) {
+    sphere += o.sphere;
+    transform += o.transform;
+    primitive += o.primitive;
+    box += o.box;
+    node += o.node;
+    stall += o.stall;
+    return *this;
+  }
+  bool operator==(const UnitCycles& o) const {
+    return sphere == o.sphere && transform == o.transform && primitive == o.primitive && box == o.box &&
+           node == o.node && stall == o.stall;
+  }
+};
+
+inline std::uint64_t primitive_cycles(const WorkCounts& w, const KernelCosts& c) {
+  std::uint64_t n = 0;
+  for (int k = 0; k < kTriStages; ++k) n += w.tri_stage[k] * c.tri_stage[k];
+  return n;
+}
+
+inline std::uint64_t box_cycles(const WorkCounts& w, const CycleCosts& c) {
+  return w.box_setups * c.box_setup + w.box_tests * c.box;
+}
+
+// Cycles of a whole work table (no stalls): what the functional counts predict.
+inline UnitCycles work_cycles(const WorkCounts& w, const CycleCosts& c, Kernel kernel) {
+  const KernelCosts& k = c.of(kernel);
+  UnitCycles u;
+  u.sphere = w.sphere_tests * c.sphere;
+  u.transform = w.transforms * k.transform;
+  u.primitive = primitive_cycles(w, k);
+  u.box = box_cycles(w, c);
+  u.node = w.node_tests * c.node;
+  return u;
+}
 
 }  // namespace oprt

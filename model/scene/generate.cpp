@@ -1,4 +1,5 @@
 #include "scene/generate.h"
+#include "scene/json_vec.h"
 
 #include <cmath>
 #include <random>
@@ -205,7 +206,7 @@ Mesh generate_from_json(const JsonIn& g, MeshBudget& budget) {
   }
   if (kind == "box") {
     g.only_keys({"kind", "size", "divisions"});
-    const Vec3d s = g.vec3_or("size", Vec3d(1));
+    const Vec3d s = vec3_or(g, "size", Vec3d(1));
     if (!(s.x > 0 && s.y > 0 && s.z > 0)) g.at("size").fail("box sizes must be positive");
     const std::uint32_t n = count("divisions", 1, 1);
     affordable(12 * U(n) * n, 6 * U(n + 1) * (n + 1));

@@ -3,7 +3,7 @@
 // (seeded), and its triangle count is a closed formula of its parameters (see count_*).
 #pragma once
 
-#include "scene/json_in.h"
+#include "base/json_in.h"
 #include "scene/load.h"
 #include "scene/scene.h"
 

@@ -1,8 +1,8 @@
 #include "scene/load.h"
 
 #include "scene/aff.h"
-#include "scene/error.h"
-#include "scene/numbers.h"
+#include "base/error.h"
+#include "base/numbers.h"
 
 #include <algorithm>
 #include <cmath>

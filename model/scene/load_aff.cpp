@@ -28,7 +28,7 @@
 // Lights and the view are not moved by enclosing transforms (BART does not move them).
 #include "scene/aff.h"
 
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/generate.h"
 #include "scene/kb_spline.h"
 #include "scene/load.h"

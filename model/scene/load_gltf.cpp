@@ -44,7 +44,7 @@
 //   accessors without a buffer view, required extensions other than KHR_lights_punctual,
 //   KHR_materials_* and KHR_texture_*.
 #include "scene/gltf_motion.h"
-#include "scene/json_in.h"
+#include "scene/json_vec.h"
 #include "scene/load.h"
 
 #include <algorithm>
@@ -606,7 +606,7 @@ const GltfLocal& GltfReader::local(std::size_t i) {
     if (!why.empty()) mj->fail(why);
     l.matrix = m;
   } else {
-    if (auto t = n.find("translation")) l.translation = t->vec3();
+    if (auto t = n.find("translation")) l.translation = vec3(*t);
     if (auto r = n.find("rotation")) {
       const auto q = r->items();
       if (q.size() != 4) r->fail("expected 4 numbers (a quaternion x, y, z, w), found " + std::to_string(q.size()));
@@ -619,7 +619,7 @@ const GltfLocal& GltfReader::local(std::size_t i) {
       l.rotation = glm::normalize(l.rotation);
     }
     if (auto s = n.find("scale")) {
-      l.scale = s->vec3();
+      l.scale = vec3(*s);
       if (l.scale.x == 0 || l.scale.y == 0 || l.scale.z == 0)
         s->fail("scale has a zero component: the transform would be singular");
     }
@@ -909,7 +909,7 @@ void GltfReader::add_light(std::size_t node) {
   if (src.type != "point" && src.type != "spot" && src.type != "directional")
     l.at("type").fail("unknown light type \"" + src.type + "\" (expected point, spot or directional)");
   if (auto c = l.find("color")) {
-    src.color = c->vec3();
+    src.color = vec3(*c);
     if (src.color.x < 0 || src.color.y < 0 || src.color.z < 0) c->fail("light colour must not be negative");
   }
   src.intensity = l.number_or("intensity", 1, 0, 1e300);

@@ -1,6 +1,6 @@
 // The oprt-scene/1 format (../../docs/scene-format.md has the full reference).
 #include "scene/generate.h"
-#include "scene/json_in.h"
+#include "scene/json_vec.h"
 #include "scene/load.h"
 
 #include <filesystem>
@@ -32,10 +32,10 @@ Affine<double> read_transform(const JsonIn& t) {
   }
   t.only_keys({"translate", "rotate", "scale"});
   RigidKey k;
-  k.translate = t.vec3_or("translate", Vec3d(0));
+  k.translate = vec3_or(t, "translate", Vec3d(0));
   if (auto r = t.find("rotate")) {
     r->only_keys({"axis", "deg"});
-    const Vec3d axis = r->vec3_or("axis", Vec3d(0, 1, 0));
+    const Vec3d axis = vec3_or(*r, "axis", Vec3d(0, 1, 0));
     if (dot3(axis, axis) == 0) r->at("axis").fail("rotation axis must not be zero");
     k.rotate = axis_angle(axis, r->number_or("deg", 0));
   }
@@ -52,10 +52,10 @@ MotionPtr read_animation(const JsonIn& a) {
     k.frame = kj.at("frame").number(-1e9, 1e9);
     if (!keys.empty() && !(k.frame > keys.back().frame))
       kj.at("frame").fail("keyframes must be in increasing frame order");
-    k.translate = kj.vec3_or("translate", keys.empty() ? Vec3d(0) : keys.back().translate);
+    k.translate = vec3_or(kj, "translate", keys.empty() ? Vec3d(0) : keys.back().translate);
     if (auto r = kj.find("rotate")) {
       r->only_keys({"axis", "deg"});
-      const Vec3d axis = r->vec3_or("axis", Vec3d(0, 1, 0));
+      const Vec3d axis = vec3_or(*r, "axis", Vec3d(0, 1, 0));
       if (dot3(axis, axis) == 0) r->at("axis").fail("rotation axis must not be zero");
       k.rotate = axis_angle(axis, r->number_or("deg", 0));
     } else if (!keys.empty()) {
@@ -103,7 +103,7 @@ Mesh read_mesh(const JsonIn& mj, const std::string& scene_file, MeshBudget& budg
   if (mj.has("vertices") || mj.has("triangles")) {
     mj.only_keys({"vertices", "triangles", "transform"});
     Mesh m;
-    for (const JsonIn& v : mj.at("vertices").items()) m.vertices.push_back(v.vec3());
+    for (const JsonIn& v : mj.at("vertices").items()) m.vertices.push_back(vec3(v));
     for (const JsonIn& t : mj.at("triangles").items()) {
       auto idx = t.items();
       if (idx.size() != 3) t.fail("a triangle is 3 vertex indices, found " + std::to_string(idx.size()));
@@ -129,9 +129,9 @@ Vec3d read_weight(const JsonIn& w) {
 
 Camera read_camera_fields(const JsonIn& c, const Camera& base) {
   Camera cam = base;
-  cam.eye = c.vec3_or("eye", base.eye);
-  cam.target = c.vec3_or("target", base.target);
-  cam.up = c.vec3_or("up", base.up);
+  cam.eye = vec3_or(c, "eye", base.eye);
+  cam.target = vec3_or(c, "target", base.target);
+  cam.up = vec3_or(c, "up", base.up);
   cam.fov_y_deg = c.number_or("fov_y_deg", base.fov_y_deg, 1e-3, 179);
   const Vec3d view = cam.target - cam.eye;
   if (dot3(view, view) == 0) c.fail("camera eye and target coincide");
@@ -176,12 +176,12 @@ Scene load_oprt_json(const std::string& path) {
     s.width = static_cast<int>(im->at("width").integer(1, 16384));
     s.height = static_cast<int>(im->at("height").integer(1, 16384));
   }
-  s.background = root.vec3_or("background", Vec3d(0));
-  s.ambient = root.vec3_or("ambient", Vec3d(0.1));
+  s.background = vec3_or(root, "background", Vec3d(0));
+  s.ambient = vec3_or(root, "ambient", Vec3d(0.1));
   if (auto lights = root.find("lights")) {
     for (const JsonIn& lj : lights->items()) {
       lj.only_keys({"position", "color"});
-      s.lights.push_back({lj.at("position").vec3(), lj.vec3_or("color", Vec3d(1)), nullptr});
+      s.lights.push_back({vec3(lj.at("position")), vec3_or(lj, "color", Vec3d(1)), nullptr});
     }
   }
   std::map<std::string, std::uint32_t> material_index;
@@ -190,8 +190,8 @@ Scene load_oprt_json(const std::string& path) {
       mj.only_keys({"diffuse", "specular", "shininess", "reflect", "transmit", "ior"});
       Material m;
       m.name = name;
-      m.diffuse = mj.vec3_or("diffuse", m.diffuse);
-      m.specular = mj.vec3_or("specular", m.specular);
+      m.diffuse = vec3_or(mj, "diffuse", m.diffuse);
+      m.specular = vec3_or(mj, "specular", m.specular);
       m.shininess = mj.number_or("shininess", m.shininess, 0, 1e6);
       if (auto r = mj.find("reflect")) m.reflect = read_weight(*r);
       if (auto t = mj.find("transmit")) m.transmit = read_weight(*t);

@@ -1,4 +1,5 @@
-#include "scene/error.h"
+#include "base/error.h"
+#include "base/read_file.h"
 #include "scene/load.h"
 
 #include <charconv>
@@ -15,16 +16,6 @@ namespace oprt {
 // Polygons are triangulated by tinyobjloader (fan); normals and texture coordinates are not
 // used (shading uses the geometric normal).
 namespace {
-std::string read_text(const std::string& path) {
-  require_regular_file(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", "cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(path, "", "cannot read file");
-  return ss.str();
-}
-
 // tinyobjloader reads a coordinate it cannot parse ("nan", "inf", "1e999", "x") as 0 and an
 // index beyond int's range as whatever it wraps to, and says nothing: a silently wrong mesh.
 // Check every vertex and face line first, with its number.
@@ -65,7 +56,7 @@ void check_lines(const std::string& path, const std::string& text) {
 }  // namespace
 
 Mesh load_obj(const std::string& path) {
-  const std::string text = read_text(path);
+  const std::string text = read_file_text(path);
   check_lines(path, text);
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;

@@ -1,5 +1,5 @@
 // The GPP's plan for a frame, in plain C++: the one place its rules are written. The
-// SystemC GPP (hw/gpp.cpp) and the analytic level (analytic.cpp) both follow it; they differ
+// SystemC GPP (hw/gpp.cpp) and the analytic level (analytic/engine.cpp) both follow it; they differ
 // only in how they spend time (transactions and waits, or a recurrence).
 //  - Object memories (memory_loads): a unit's memory holds its spheres' geometry. The set-up
 //    loads every memory before the animation; a frame writes the geometry a unit gains when
@@ -19,8 +19,9 @@
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/bytes.h"
-#include "timing/functional_frame.h"
+#include "ref/bytes.h"
+#include "ref/functional_frame.h"
+#include "timing/frame_command.h"
 #include "timing/object_memory_model.h"
 #include "timing/visit_stream.h"
 #include "arch/cycle_schedule.h"
@@ -110,6 +111,14 @@ struct Waiting {
 // The order of the GPP's work, at either level, in its own time type (sc_time or cycles).
 // A routed ray (ref/route.h) goes out in waves: when a wave's answers are all in and the ray
 // has another wave, that wave is written next (before pending shadow rays).
+// The units a ray's next wave goes to (routed: a range of FunctionalFrame::route_units,
+// flagged entries; broadcast: empty, meaning every unit), and whether it is the ray's first.
+struct GppWave {
+  const std::uint32_t *first = nullptr, *last = nullptr;
+  bool initial = true;
+  std::size_t size(std::size_t units) const { return first ? static_cast<std::size_t>(last - first) : units; }
+};
+
 template <typename T, typename Time>
 class GppWork {
  public:
@@ -186,13 +195,7 @@ class GppWork {
     issued_at_[id] = now;
     return id;
   }
-  // The units ray `id`'s next wave goes to (routed: a range of FunctionalFrame::route_units,
-  // flagged entries; broadcast: empty, meaning every unit), and whether it is the ray's first.
-  struct Wave {
-    const std::uint32_t *first = nullptr, *last = nullptr;
-    bool initial = true;
-    std::size_t size(std::size_t units) const { return first ? static_cast<std::size_t>(last - first) : units; }
-  };
+  using Wave = GppWave;
   // How many units' bounds ray `id` entered (routed only).
   std::size_t entered(std::uint32_t id) const { return f_.routed ? f_.route_entered(id) : 0; }
   Wave wave(std::uint32_t id) const {

@@ -1,39 +1,20 @@
 // The GPP's recipe, written once for both clocks: what each step of its work costs in GPP
 // cycles and which transfers it causes (destination, bytes); what the bus and a DRAM channel
 // charge for a transfer is in transfers.h. The SystemC modules (hw/gpp.cpp, bus.cpp, dram.cpp) and the
-// analytic level (analytic_gpp.cpp, analytic_bus.h, analytic_dram.h) follow it; they only
-// decide when time passes: a step calls its clock, which is either the SystemC GPP (a local
-// clock, transactions, waits) or the analytic GPP (a cycle count and calendars).
-//
-// A clock provides:
-//   compute(GppPhase, cycles)          the GPP works this long (called only when cycles > 0)
-//   load(const MemoryLoad&)            write a unit's geometry into its object memory
-//   write_config(unit, bytes)          write a unit's configuration registers
-//   generated(ray)                     a new ray has been generated (and routed)
-//   routed_nowhere(ray)                the router answered the ray itself (no unit entered)
-//   write_rays(ray, wave, RayWrites)   the ray's writes to the units' FIFOs
+// analytic level (analytic/gpp.cpp, analytic/bus.h, analytic/dram.h) follow it; they only
+// decide when time passes: a step calls its clock (gpp_clock.h), which is either the SystemC
+// GPP (a local clock, transactions, waits) or the analytic GPP (a cycle count and calendars).
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/bytes.h"
+#include "ref/bytes.h"
+#include "timing/gpp_clock.h"
 #include "timing/transfers.h"
 #include "timing/gpp_plan.h"
 
 #include <cstdint>
 
 namespace oprt::timing {
-
-// What the GPP spends its cycles on (the waveform and the timeline name them).
-enum class GppPhase { refit, generate, route, shade };
-
-// A wave's writes: one to every FIFO (broadcast), one to the wave's FIFOs with a unit mask
-// after the ray's bytes (masked), or one per unit of the wave (per_unit), each `bytes` long.
-struct RayWrites {
-  enum class Kind { broadcast, masked, per_unit } kind = Kind::broadcast;
-  std::uint32_t transfers = 1;
-  std::uint64_t bytes = 0;
-  std::uint64_t ray_bytes = 0;  // of which the ray (the rest: the mask)
-};
 
 template <typename T, typename Wave>
 RayWrites ray_writes(const Arch& a, std::size_t units, const Wave& wave) {
@@ -61,6 +42,7 @@ constexpr std::uint64_t answer_bytes(RayKind k) {
 // written. Returns the plan's configuration (its refit figures).
 template <typename T, typename Clock>
 const typename GppPlan<T>::Config& start_frame(GppPlan<T>& plan, const FrameCommand& cmd, Clock& clock) {
+  static_assert(is_gpp_clock_v<Clock>, "start_frame's clock must have every member of a GPP clock (gpp_clock.h)");
   for (const MemoryLoad& l : plan.memory_loads()) clock.load(l);
   const auto& config = plan.configure(cmd);
   if (config.refit_cycles) clock.compute(GppPhase::refit, config.refit_cycles);
@@ -73,6 +55,7 @@ const typename GppPlan<T>::Config& start_frame(GppPlan<T>& plan, const FrameComm
 // Returns the number of units the wave goes to. The caller has waited for the FIFOs' room.
 template <typename T, typename Time, typename Clock>
 std::size_t issue_ray(const GppPlan<T>& plan, GppWork<T, Time>& work, std::uint32_t id, const Arch& a, Clock& clock) {
+  static_assert(is_gpp_clock_v<Clock>, "issue_ray's clock must have every member of a GPP clock (gpp_clock.h)");
   const auto wave = work.wave(id);
   const std::size_t n = wave.size(plan.units());
   if (wave.initial) {
@@ -90,6 +73,7 @@ std::size_t issue_ray(const GppPlan<T>& plan, GppWork<T, Time>& work, std::uint3
 // ray that hit is shaded (gpp.cycles_per_hit) and the rays it spawns queued.
 template <typename T, typename Time, typename Clock>
 typename GppWork<T, Time>::Retired retire_ray(GppWork<T, Time>& work, const Arch& a, Clock& clock) {
+  static_assert(is_gpp_clock_v<Clock>, "retire_ray's clock must have every member of a GPP clock (gpp_clock.h)");
   const auto r = work.retire();
   if (r.shade && a.gpp.cycles_per_hit) clock.compute(GppPhase::shade, static_cast<std::uint64_t>(a.gpp.cycles_per_hit));
   return r;

@@ -57,7 +57,7 @@
 #include "arch/cycle_schedule.h"
 #include "timing/calendar.h"
 #include "timing/cycle.h"
-#include "timing/functional_frame.h"
+#include "ref/functional_frame.h"
 #include "timing/object_memory_model.h"
 #include "timing/visit_stream.h"
 

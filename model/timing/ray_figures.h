@@ -7,7 +7,7 @@
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/functional_frame.h"
+#include "ref/functional_frame.h"
 #include "timing/gpp_recipe.h"
 
 #include <array>

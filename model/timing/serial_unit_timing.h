@@ -14,7 +14,7 @@
 // starts when the unit is free and the item is there; the difference is stall.
 #pragma once
 
-#include "timing/functional_frame.h"
+#include "ref/functional_frame.h"
 #include "timing/object_memory_model.h"
 #include "timing/unit_state.h"
 #include "timing/visit_stream.h"

@@ -11,10 +11,10 @@
 
 #include "arch/arch.h"
 #include "timing/cache.h"
-#include "timing/functional_frame.h"
+#include "ref/functional_frame.h"
 #include "timing/pipeline_timing.h"
 #include "timing/ray_figures.h"
-#include "timing/unit_cycles.h"
+#include "ref/work.h"
 
 #include <array>
 #include <optional>

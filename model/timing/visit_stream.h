@@ -8,7 +8,7 @@
 
 #include "arch/arch.h"
 #include "timing/cache.h"
-#include "timing/bytes.h"
+#include "ref/bytes.h"
 #include "ref/traverse.h"
 
 #include <numeric>

@@ -25,11 +25,8 @@ std::string json_escape(const std::string& s) {
 }
 }  // namespace
 
-TimelineWriter::TimelineWriter(std::string path) : path_(std::move(path)), buf_(1 << 20) {
-  tmp_ = temporary_path(path_);
-  f_ = std::fopen(tmp_.c_str(), "wb");
-  if (!f_) throw std::runtime_error("cannot write " + tmp_ + ": " + std::strerror(errno));
-  std::setvbuf(f_, nullptr, _IONBF, 0);
+TimelineWriter::TimelineWriter(std::string path)
+    : path_(std::move(path)), tmp_(temporary_path(path_)), out_(std::make_unique<BufferedFile>(tmp_)) {
   // Times are in microseconds (the format's unit), to the picosecond.
   put(R"({"displayTimeUnit":"ns","otherData":{"generator":"oprt"},"traceEvents":[)"
       "\n"
@@ -38,7 +35,7 @@ TimelineWriter::TimelineWriter(std::string path) : path_(std::move(path)), buf_(
 
 TimelineWriter::~TimelineWriter() {
   if (closed_) return;
-  if (f_) std::fclose(f_);  // abandoned (an error): leave no partial file behind
+  out_.reset();  // abandoned (an error): leave no partial file behind
   std::remove(tmp_.c_str());
 }
 
@@ -93,7 +90,7 @@ void TimelineWriter::slice(int track, const char* name, std::uint64_t start, std
   end = std::min(end, to_);
   if (end <= start) return;
   ++slices_;
-  if (n_ + 512 > buf_.size()) drain();
+  out_->room(512);
   put(R"(,
 {"ph":"X","pid":1,"tid":)");
   put_uint(static_cast<std::uint64_t>(track));
@@ -119,16 +116,6 @@ void TimelineWriter::slice(int track, const char* name, std::uint64_t start, std
   put("}", 1);
 }
 
-void TimelineWriter::put(const char* s, std::size_t len) {
-  for (std::size_t done = 0; done < len;) {
-    if (n_ == buf_.size()) drain();
-    const std::size_t k = std::min(len - done, buf_.size() - n_);
-    std::memcpy(buf_.data() + n_, s + done, k);
-    n_ += k;
-    done += k;
-  }
-}
-
 void TimelineWriter::put_uint(std::uint64_t v) {
   char s[24];
   put(s, static_cast<std::size_t>(std::to_chars(s, s + sizeof s, v).ptr - s));
@@ -149,20 +136,11 @@ void TimelineWriter::put_us(std::uint64_t ps) {
   put(d, static_cast<std::size_t>(n + 1));
 }
 
-void TimelineWriter::drain() {
-  if (n_ && std::fwrite(buf_.data(), 1, n_, f_) != n_)
-    throw std::runtime_error("cannot write " + tmp_ + ": " + std::strerror(errno));
-  n_ = 0;
-}
-
 void TimelineWriter::close() {
   if (closed_) return;
   for (int t = 1; t <= tracks_; ++t) end_run(t);
   put("\n]}\n");
-  drain();
-  const int rc = std::fclose(f_);
-  f_ = nullptr;
-  if (rc != 0) throw std::runtime_error("cannot write " + tmp_ + ": " + std::strerror(errno));
+  out_->close();
   std::filesystem::rename(tmp_, path_);
   closed_ = true;
 }

@@ -16,10 +16,13 @@
 // Plain C++ (times in picoseconds).
 #pragma once
 
+#include "trace/buffered_file.h"
+
 #include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <initializer_list>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -66,16 +69,13 @@ class TimelineWriter {
     std::uint64_t start = 0, end = 0, first = 0, last = 0, rays = 0;
   };
   void end_run(int track);
-  void put(const char* s, std::size_t n);
-  void put(const std::string& s) { put(s.data(), s.size()); }
+  void put(const char* s, std::size_t n) { out_->put(s, n); }
+  void put(const std::string& s) { out_->put(s); }
   void put_us(std::uint64_t ps);
   void put_uint(std::uint64_t v);
-  void drain();
 
   std::string path_, tmp_;
-  std::FILE* f_ = nullptr;
-  std::vector<char> buf_;
-  std::size_t n_ = 0;
+  std::unique_ptr<BufferedFile> out_;  // tmp_, renamed to path_ once closed
   Filter filter_;
   std::uint64_t from_ = 0, to_ = kNever, slices_ = 0;
   int tracks_ = 0;

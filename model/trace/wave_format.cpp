@@ -1,5 +1,7 @@
 #include "trace/wave_format.h"
 
+#include "trace/buffered_file.h"
+
 #include "fstapi.h"
 
 #include <cerrno>
@@ -54,14 +56,7 @@ constexpr const char (&kByteBits)[256][8] = kByteBitsTable.bits;
 // VCD text, written through one large buffer: no stream, no string per change.
 class VcdFormat final : public WaveFormat {
  public:
-  explicit VcdFormat(const std::string& file) : file_(file), buf_(1 << 20) {
-    f_ = std::fopen(file.c_str(), "wb");
-    if (!f_) throw std::runtime_error("cannot write " + file + ": " + std::strerror(errno));
-    std::setvbuf(f_, nullptr, _IONBF, 0);
-  }
-  ~VcdFormat() override {
-    if (f_) std::fclose(f_);
-  }
+  explicit VcdFormat(const std::string& file) : out_(file) {}
 
   void declare(const std::vector<WaveVar>& vars) override {
     for (std::size_t i = 0; i < vars.size(); ++i) {  // identifiers: printable ASCII 33..126
@@ -81,23 +76,23 @@ class VcdFormat final : public WaveFormat {
           h += "$var wire " + std::to_string(vars[v].width) + " " + codes_[v] + " " + vars[v].name + " $end\n";
         });
     h += "$enddefinitions $end\n";
-    put(h.data(), h.size());
+    out_.put(h);
   }
 
   void time(std::uint64_t t) override {
-    room(32);
-    char* p = buf_.data() + n_;
+    out_.room(32);
+    char* p = out_.end();
     *p++ = '#';
     p = std::to_chars(p, p + 24, t).ptr;
     *p++ = '\n';
-    n_ = static_cast<std::size_t>(p - buf_.data());
+    out_.advance(p);
     last_ = t;
   }
 
   void value(int var, std::uint64_t v) override {
     const std::string& code = codes_[var];
-    room(80);
-    char* p = buf_.data() + n_;
+    out_.room(80);
+    char* p = out_.end();
     const int width = widths_[var];
     if (width < 64) v &= (std::uint64_t{1} << width) - 1;
     if (width == 1) {
@@ -115,40 +110,16 @@ class VcdFormat final : public WaveFormat {
     std::memcpy(p, code.data(), code.size());
     p += code.size();
     *p++ = '\n';
-    n_ = static_cast<std::size_t>(p - buf_.data());
+    out_.advance(p);
   }
 
   void finish(std::uint64_t end) override {
     if (end > last_) time(end);
-    drain();
-    const int rc = std::fclose(f_);
-    f_ = nullptr;
-    if (rc != 0) throw std::runtime_error("cannot write " + file_ + ": " + std::strerror(errno));
+    out_.close();
   }
 
  private:
-  void room(std::size_t bytes) {
-    if (n_ + bytes > buf_.size()) drain();
-  }
-  void put(const char* s, std::size_t len) {
-    for (std::size_t done = 0; done < len;) {
-      if (n_ == buf_.size()) drain();
-      const std::size_t k = std::min(len - done, buf_.size() - n_);
-      std::memcpy(buf_.data() + n_, s + done, k);
-      n_ += k;
-      done += k;
-    }
-  }
-  void drain() {
-    if (n_ && std::fwrite(buf_.data(), 1, n_, f_) != n_)
-      throw std::runtime_error("cannot write " + file_ + ": " + std::strerror(errno));
-    n_ = 0;
-  }
-
-  std::string file_;
-  std::FILE* f_ = nullptr;
-  std::vector<char> buf_;
-  std::size_t n_ = 0;
+  BufferedFile out_;
   std::vector<std::string> codes_;
   std::vector<int> widths_;
   std::uint64_t last_ = 0;

@@ -1,5 +1,5 @@
 #include "arch/arch.h"
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
 // The architecture file's "balance": a policy's name, or {"policy", "locality"}.
 #include "arch/arch.h"
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <catch2/catch.hpp>
 

@@ -3,7 +3,7 @@
 #include "balance/policy.h"
 #include "balance/spheres.h"
 #include "balance/subdivide.h"
-#include "timing/analytic.h"
+#include "analytic/engine.h"
 #include "ref/reference.h"
 #include "scene/generate.h"
 #include "scene/load.h"
@@ -202,7 +202,7 @@ TEST_CASE("the image is the same under every policy and subdivision", "[balance]
       const SceneGeometry<float> g = build_geometry<float>(s, spheres);
       Arch arch;
       arch.ius = 7;
-      timing::AnalyticEngine<float> engine(s, g, arch);
+      analytic::AnalyticEngine<float> engine(s, g, arch);
       engine.assign(static_assignment(policy, s, spheres, units_for(spheres.size(), 7)));
       FrameImage img(n, n);
       timing::FrameCommand cmd;

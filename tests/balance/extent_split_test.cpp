@@ -5,7 +5,7 @@
 #include "balance/spheres.h"
 #include "ref/frame_setup.h"
 #include "ref/reference.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/generate.h"
 #include "scene/load.h"
 

@@ -1,6 +1,6 @@
 #include "cost/tech.h"
-#include "scene/error.h"
-#include "scene/json_in.h"
+#include "base/error.h"
+#include "base/json_in.h"
 
 #include <catch2/catch.hpp>
 

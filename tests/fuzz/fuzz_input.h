@@ -5,7 +5,7 @@
 // beyond the limit -- is a finding that libFuzzer reports and scripts/fuzz saves.
 #pragma once
 
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <cstdint>
 #include <cstdio>

@@ -7,7 +7,7 @@
 #include "arch/arch.h"
 #include "cost/tech.h"
 #include "scene/aff.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/load.h"
 
 #include <catch2/catch.hpp>

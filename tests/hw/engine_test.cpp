@@ -1,8 +1,7 @@
 // The timed model against the functional reference: same images, same work, every ray
 // retired once, at both timing levels and under contention.
 #include "harness.h"
-#include "policy_driver.h"
-#include "timing/unit_cycles.h"
+#include "ref/work.h"
 #include "ref/camera.h"
 
 #include <catch2/catch.hpp>
@@ -16,8 +15,8 @@ namespace {
 // nearest hits, shade, send the shadow rays to every unit).
 // With `top`, each unit walks a tree over its spheres (built for this frame: the same tree
 // as one built for an earlier frame of the same assignment and refitted).
-std::vector<timing::UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<float>& g, const Assignment& a,
-                                        const CycleCosts& costs, int frame, int w, int h, bool top = false) {
+std::vector<UnitCycles> replay_busy(const Scene& scene, const SceneGeometry<float>& g, const Assignment& a,
+                                    const CycleCosts& costs, int frame, int w, int h, bool top = false) {
   const FrameSetup<float> f = setup_frame(scene, g, frame);
   std::vector<IuRegisters<float>> regs(a.units());
   std::vector<TopTree> trees(a.units());
@@ -49,8 +48,8 @@ std::vector<timing::UnitCycles> replay_busy(const Scene& scene, const SceneGeome
       for (const SpawnedRay<float>& s : shadow)
         for (std::size_t u = 0; u < a.units(); ++u) trace_any(g, regs[u], s.ray, add(u));
     }
-  std::vector<timing::UnitCycles> out;
-  for (const WorkCounts& wk : work) out.push_back(timing::work_cycles(wk, costs, g.kernel()));
+  std::vector<UnitCycles> out;
+  for (const WorkCounts& wk : work) out.push_back(work_cycles(wk, costs, g.kernel()));
   return out;
 }
 
@@ -205,7 +204,7 @@ void check_contended(const std::string& accel, std::uint64_t sram = 0, const std
   for (const auto& u : fb.units) {
     WorkCounts w = u.work[0];
     w += u.work[1];
-    CHECK(u.memory_bytes == w.tri_tests() * timing::Bytes<float>::triangle(Kernel::moller) + w.box_tests * timing::Bytes<float>::node);
+    CHECK(u.memory_bytes == w.tri_tests() * Bytes<float>::triangle(Kernel::moller) + w.box_tests * Bytes<float>::node);
     CHECK(u.cache == (sram && u.assigned_bytes > sram));
     if (u.cache) CHECK(u.memory.dram_bytes == 64 * u.memory.misses);
     else CHECK(u.memory.misses == 0);
@@ -290,33 +289,4 @@ TEST_CASE("engine: memory.dram.path external with the memory port unbound stops 
   CHECK(engine.memory_port_used());
   CHECK(engine.dram() == nullptr);  // the memory behind the port is the platform's
   CHECK_THROWS_WITH(sc_core::sc_start(), Catch::Contains("bind the engine's memory port (mem)"));
-}
-
-TEST_CASE("feedback: a sphere's weight is the last frame's cycles of both ray kinds", "[balance][feedback]") {
-  // The room's spheres on two units, feedback balance. Last frame's work, by hand: sphere 0
-  // did 100 sphere tests for primary rays (900 cycles at 9 each); sphere 1 did 90 for primary
-  // rays and 30 for shadow rays (1080 cycles); the others nothing. The greedy assignment puts
-  // the heaviest, sphere 1, on a unit and every other sphere (sphere 0 next, then the
-  // weightless ones, each on the less loaded unit) on the other. Counting primary rays only,
-  // sphere 0 (900) would be the heaviest and alone instead.
-  const Scene scene = load_scene(test::scene_path("paper_room.json"));
-  const auto spheres = make_spheres(scene, 1);
-  const SceneGeometry<float> g = build_geometry<float>(scene, spheres);
-  REQUIRE(g.sphere_count() > 3);
-  Arch arch;
-  arch.balance = "feedback";
-  arch.ius = 2;
-  REQUIRE(arch.costs.sphere == 9);
-  PolicyDriver<float> driver(scene, g, arch, assign_round_robin(g.sphere_count(), 2), 8, 8);
-  timing::FrameRun previous;
-  for (auto& kind : previous.per_sphere) kind.assign(g.sphere_count(), WorkCounts{});
-  previous.per_sphere[static_cast<int>(RayKind::primary)][0].sphere_tests = 100;
-  previous.per_sphere[static_cast<int>(RayKind::primary)][1].sphere_tests = 90;
-  previous.per_sphere[static_cast<int>(RayKind::shadow)][1].sphere_tests = 30;
-  const Assignment a = driver.for_frame(1, &previous);
-  REQUIRE(a.units() == 2);
-  CHECK(a.is_partition(g.sphere_count()));
-  const auto unit = a.unit_of(g.sphere_count());
-  CHECK(a.unit[unit[1]] == std::vector<std::uint32_t>{1});
-  CHECK(a.unit[unit[0]].size() == g.sphere_count() - 1);
 }

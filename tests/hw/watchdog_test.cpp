@@ -22,7 +22,7 @@ using namespace sc_core;
 namespace {
 
 struct Miswired : sc_module {
-  timing::FunctionalFrame<float> frame;
+  FunctionalFrame<float> frame;
   hw::Gpp<float> gpp;
   hw::Bus bus;
   hw::RayFifo fifo0, fifo1;

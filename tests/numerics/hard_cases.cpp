@@ -5,7 +5,7 @@
 #include "ref/reference.h"
 #include "ref/shading.h"
 #include "ref/traverse.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/generate.h"
 
 #include <algorithm>

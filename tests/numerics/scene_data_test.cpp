@@ -7,7 +7,7 @@
 // but not in the precision the engine runs (float).
 #include "balance/spheres.h"
 #include "ref/frame_setup.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/load.h"
 
 #include <catch2/catch.hpp>

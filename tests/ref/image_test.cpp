@@ -1,6 +1,6 @@
 #include "ref/image.h"
 #include "ref/image_compare.h"
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <OpenEXR/ImfRgbaFile.h>
 

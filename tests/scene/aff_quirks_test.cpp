@@ -3,7 +3,7 @@
 // KB_RotInterpolate; animation.c: _GetVisibility; viGetAnimatedTriangle) moves them. Every
 // expected value below is worked out by hand from those rules, in the comment beside it.
 #include "scene/aff.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/kb_spline.h"
 #include "scene/load.h"
 

@@ -1,7 +1,7 @@
 #include "ref/camera.h"
 #include "ref/reference.h"
 #include "scene/aff.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/kb_spline.h"
 #include "scene/load.h"
 

@@ -4,7 +4,7 @@
 // animation plays; and a buffer uri that is no usable file name ends in the loader's own error.
 #include "balance/spheres.h"
 #include "ref/reference.h"
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/load.h"
 
 #include <catch2/catch.hpp>

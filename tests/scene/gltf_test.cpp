@@ -1,7 +1,7 @@
 // The glTF loader against tests/data/gltf (made by make_gltf.py, whose docstring describes the
 // scene): world positions computed by hand, animation at keys and between them, camera, lights,
 // and one malformed variant per kind of error, each expected to name its JSON path.
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/gltf_motion.h"
 #include "scene/load.h"
 

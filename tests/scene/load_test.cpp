@@ -1,4 +1,4 @@
-#include "scene/error.h"
+#include "base/error.h"
 #include "scene/load.h"
 
 #include <catch2/catch.hpp>

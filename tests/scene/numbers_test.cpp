@@ -1,8 +1,8 @@
-// The one parser of each kind of number (scene/numbers.h): at each limit, one past it, and far
+// The one parser of each kind of number (base/numbers.h): at each limit, one past it, and far
 // past it; every refusal states the real limit.
-#include "scene/error.h"
-#include "scene/json_in.h"
-#include "scene/numbers.h"
+#include "base/error.h"
+#include "base/json_in.h"
+#include "base/numbers.h"
 
 #include <catch2/catch.hpp>
 

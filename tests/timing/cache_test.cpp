@@ -3,7 +3,7 @@
 // through the cache (timing/serial_unit_timing.h) worked out cycle by cycle; with every line
 // present, the on-chip memory's own timing (stream_stall) exactly.
 #include "timing/cache.h"
-#include "timing/memory_timing.h"
+#include "ref/memory_timing.h"
 #include "timing/object_memory_model.h"
 #include "timing/serial_unit_timing.h"
 

@@ -1,6 +1,6 @@
 // The object-memory latency model, worked by hand: brute force streams one burst; a BVH's
-// node and leaf fetches are dependent bursts (timing/memory_timing.h).
-#include "timing/memory_timing.h"
+// node and leaf fetches are dependent bursts (ref/memory_timing.h).
+#include "ref/memory_timing.h"
 #include "balance/spheres.h"
 #include "ref/bvh_traverse.h"
 #include "scene/load.h"
@@ -15,7 +15,7 @@ const std::uint32_t kTri[4] = {4, 14, 17, 22};
 }
 
 TEST_CASE("memory timing: brute force is one burst behind the transform", "[memory]") {
-  timing::StreamCosts c;
+  StreamCosts c;
   c.latency = 10;
   c.bytes_per_cycle = 4;
   c.triangle_bytes = 48;
@@ -24,14 +24,14 @@ TEST_CASE("memory timing: brute force is one burst behind the transform", "[memo
   // Triangle j arrives at 10 + 12 (j + 1) = 22, 34, 46; tests of 22 cycles start at
   // max(previous end, arrival): 22 -> 44, 44 -> 66, 66 -> 88. Work 19 + 66: 3 stalled.
   const std::uint8_t stages[] = {3, 3, 3};
-  CHECK(timing::stream_stall(c, stages, 3) == 3);
+  CHECK(stream_stall(c, stages, 3) == 3);
   // Fast memory: every triangle is there in time.
   c.bytes_per_cycle = 64;
-  CHECK(timing::stream_stall(c, stages, 3) == 0);
+  CHECK(stream_stall(c, stages, 3) == 0);
 }
 
 TEST_CASE("memory timing: BVH node and leaf fetches are dependent bursts", "[memory][bvh]") {
-  timing::StreamCosts c;
+  StreamCosts c;
   c.latency = 10;
   c.bytes_per_cycle = 16;
   c.triangle_bytes = 48;
@@ -45,15 +45,15 @@ TEST_CASE("memory timing: BVH node and leaf fetches are dependent bursts", "[mem
   //   then 96 -> 118;
   // next node: requested at 118, arrives 130, tested 130 -> 143 (12 more). 37 in all.
   const std::uint8_t log[] = {kLogNode, kLogNode, 1, 3, kLogNode};
-  CHECK(timing::stream_stall(c, log, 5) == 37);
+  CHECK(stream_stall(c, log, 5) == 37);
   // Zero latency and a wide memory: only the transfer of each item, hidden behind work
   // except the first triangle of the leaf (3 cycles) and each node after the first (2).
   c.latency = 0;
-  CHECK(timing::stream_stall(c, log, 5) == 2 + 3 + 2);
+  CHECK(stream_stall(c, log, 5) == 2 + 3 + 2);
 }
 
 TEST_CASE("memory timing: a triangle one cycle late stalls the unit one cycle and bytes round up", "[memory]") {
-  timing::StreamCosts c;
+  StreamCosts c;
   c.latency = 10;
   c.bytes_per_cycle = 4;
   c.triangle_bytes = 48;
@@ -62,16 +62,16 @@ TEST_CASE("memory timing: a triangle one cycle late stalls the unit one cycle an
   // The first triangle arrives at 10 + 12 = 22, the unit is free at 21: one cycle stalled;
   // then 22 -> 44 -> 66 -> 88 with the others (34, 46) in time.
   const std::uint8_t stages[] = {3, 3, 3};
-  CHECK(timing::stream_stall(c, stages, 3) == 1);
+  CHECK(stream_stall(c, stages, 3) == 1);
   c.lead = 22;  // free exactly when it arrives: no stall
-  CHECK(timing::stream_stall(c, stages, 3) == 0);
+  CHECK(stream_stall(c, stages, 3) == 0);
   // 48 bytes at 5 per cycle take 10 cycles (9.6 rounded up): the first triangle is there at
   // 20, the second at 30 (96 / 5 = 19.2: 20 cycles); with the unit free at 19, one stall.
   c.bytes_per_cycle = 5;
   c.lead = 19;
-  CHECK(timing::stream_stall(c, stages, 1) == 1);
+  CHECK(stream_stall(c, stages, 1) == 1);
   c.lead = 20;
-  CHECK(timing::stream_stall(c, stages, 1) == 0);
+  CHECK(stream_stall(c, stages, 1) == 0);
 }
 
 TEST_CASE("memory loads: a unit that gave a sphere away loads it again when it comes back", "[memory][balance]") {

@@ -2,7 +2,7 @@
 // reject (with the option and the problem), and which group and unit each signal belongs to.
 #include "trace_select.h"
 
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <catch2/catch.hpp>
 

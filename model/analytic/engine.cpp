@@ -1,11 +1,14 @@
-#include "timing/analytic.h"
+#include "analytic/engine.h"
 
-#include "timing/analytic_bus.h"
-#include "timing/analytic_dram.h"
-#include "timing/analytic_gpp.h"
+#include "analytic/bus.h"
+#include "analytic/dram.h"
+#include "analytic/gpp.h"
 #include "timing/gpp_recipe.h"
 
-namespace oprt::timing {
+namespace oprt::analytic {
+
+using timing::MemoryLoad, timing::fills_leave_memory, timing::pipeline_config, timing::ray_figures, timing::report_work,
+    timing::route_figures, timing::start_frame, timing::unit_run;
 
 template <typename T>
 AnalyticEngine<T>::AnalyticEngine(const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch)
@@ -93,4 +96,4 @@ void AnalyticEngine<T>::unit_figures(FrameRun& out, std::vector<UnitTimed>& time
 template class AnalyticEngine<float>;
 template class AnalyticEngine<double>;
 
-}  // namespace oprt::timing
+}  // namespace oprt::analytic

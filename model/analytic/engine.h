@@ -1,21 +1,21 @@
 // The analytic level: no SystemC process per ray. It follows the same plan and recipe as the
-// SystemC GPP (gpp_plan.h, gpp_recipe.h: the loads, the registers, the functional trace, the
+// SystemC GPP (timing/gpp_plan.h, gpp_recipe.h: the loads, the registers, the functional trace, the
 // order of work, what each step costs and writes) and times the units with the same unit
-// timing (serial_unit_timing.h, pipeline_timing.h) and the same object memories
+// timing (timing/serial_unit_timing.h, pipeline_timing.h) and the same object memories
 // (object_memory_model.h); only the way time passes differs: instead of events, a recurrence
 // over the order in which rays enter the FIFOs, which is the order the GPP issues them. Its
-// parts mirror the SystemC modules: analytic_gpp.h (hw/gpp.h), analytic_bus.h (hw/bus.h),
-// analytic_fifo.h (hw/ray_fifo.h), analytic_units.h (hw/serial_unit.h, pipelined_unit.h),
-// analytic_dram.h (hw/dram.h). Not a SystemC module: plain C++, one call per frame.
+// parts mirror the SystemC modules: analytic/gpp.h (hw/gpp.h), analytic/bus.h (hw/bus.h),
+// analytic/ray_fifo.h (hw/ray_fifo.h), analytic/units.h (hw/serial_unit.h, pipelined_unit.h),
+// analytic/dram.h (hw/dram.h). Not a SystemC module: plain C++, one call per frame.
 #pragma once
 
 #include "balance/assign.h"
 #include "arch/arch.h"
-#include "timing/functional_frame.h"
+#include "ref/functional_frame.h"
 #include "timing/gpp_plan.h"
 #include "timing/object_memory_model.h"
-#include "timing/analytic_fifo.h"
-#include "timing/analytic_units.h"
+#include "analytic/ray_fifo.h"
+#include "analytic/units.h"
 #include "timing/pipeline_timing.h"
 #include "timing/unit_run.h"
 #include "scene/scene.h"
@@ -23,7 +23,10 @@
 #include <memory>
 #include <vector>
 
-namespace oprt::timing {
+namespace oprt::analytic {
+
+using timing::FrameCommand, timing::FrameRun, timing::GppPlan, timing::ObjectMemoryModel, timing::PipelinedUnitTiming,
+    timing::UnitTimed;
 
 template <typename T>
 class AnalyticEngine {
@@ -53,4 +56,4 @@ class AnalyticEngine {
 extern template class AnalyticEngine<float>;
 extern template class AnalyticEngine<double>;
 
-}  // namespace oprt::timing
+}  // namespace oprt::analytic

@@ -1,18 +1,17 @@
 // What the hardware stores and moves, in bytes, and the frame's rays as the GPP issues them.
-// Plain C++: the SystemC modules charge the bus and the memories these sizes, and the
-// analytic level and the cost model use the same ones.
+// Plain C++: the functional trace counts the bytes each visit streams, the SystemC modules
+// charge the bus and the memories these sizes, and the analytic level and the cost model use
+// the same ones.
 #pragma once
 
 #include "geom/bvh.h"
 #include "geom/triangle_soa.h"
-#include "ref/camera.h"
-#include "ref/image.h"
 #include "ref/traverse.h"
 
 #include <cstdint>
 #include <vector>
 
-namespace oprt::timing {
+namespace oprt {
 
 // Bytes per item as the hardware stores and moves them, in precision T.
 template <typename T>
@@ -52,16 +51,4 @@ struct RayRecord {
   bool hit() const { return object != kNone; }
 };
 
-// The host's command for one frame (the data of a write to the GPP's host socket).
-struct FrameCommand {
-  // Set-up before the animation: load every object memory with its unit's geometry (not
-  // part of any frame's time or statistics), then return.
-  bool setup_only = false;
-  int frame = 0;
-  std::vector<Affine<double>> to_world;  // per object
-  Camera camera;
-  int width = 0, height = 0;
-  FrameImage* image = nullptr;           // filled in
-};
-
-}  // namespace oprt::timing
+}  // namespace oprt

@@ -1,10 +1,12 @@
-#include "timing/analytic_units.h"
+#include "analytic/units.h"
 
 #include "timing/gpp_recipe.h"
 
 #include <algorithm>
 
-namespace oprt::timing {
+namespace oprt::analytic {
+
+using timing::UnitState, timing::answer_bytes, timing::cached_visit, timing::serial_ray;
 
 template <typename T>
 AnalyticUnits<T>::AnalyticUnits(const FunctionalFrame<T>& f, const SceneGeometry<T>& g,
@@ -134,4 +136,4 @@ void AnalyticUnits<T>::grant_unit_until(std::uint32_t u, Cycles t) {
 template class AnalyticUnits<float>;
 template class AnalyticUnits<double>;
 
-}  // namespace oprt::timing
+}  // namespace oprt::analytic

@@ -1,10 +1,11 @@
-// Object memory timing under the latency model (plain C++, shared by the SystemC unit and
-// the analytic level).
+// Object memory timing under the latency model (plain C++): the functional trace charges
+// each sphere visit its stall (functional_frame.cpp), which the SystemC unit and the
+// analytic level then read from the trace.
 #pragma once
 
 #include <cstdint>
 
-namespace oprt::timing {
+namespace oprt {
 
 // What one sphere visit reads, and what the unit does with it.
 struct StreamCosts {
@@ -33,4 +34,4 @@ struct StreamCosts {
 // Returns the cycles the unit waited.
 std::uint64_t stream_stall(const StreamCosts& c, const std::uint8_t* items, std::uint32_t n);
 
-}  // namespace oprt::timing
+}  // namespace oprt

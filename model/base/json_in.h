@@ -3,9 +3,9 @@
 // file and the path. Used for scene files, architecture files and sweep specs.
 #pragma once
 
-#include "geom/vec.h"
-#include "scene/error.h"
+#include "base/error.h"
 
+#include <array>
 #include <cstdint>
 #include <initializer_list>
 #include <optional>
@@ -44,11 +44,11 @@ class JsonIn {
   double number() const;  // finite
   double number(double lo, double hi) const;  // finite, in [lo, hi]
   long long integer(long long lo, long long hi) const;
-  // A byte count: an integer, or a string with a suffix ("64K", "1.5 GiB"; scene/numbers.h).
+  // A byte count: an integer, or a string with a suffix ("64K", "1.5 GiB"; base/numbers.h).
   std::uint64_t bytes(std::uint64_t hi) const;
   bool boolean() const;
   std::string string() const;
-  Vec3d vec3() const;
+  std::array<double, 3> array3() const;  // three numbers (scene/json_vec.h reads them as a vector)
 
   // Optional members with a default.
   double number_or(const std::string& key, double def, double lo = -1e300, double hi = 1e300) const;
@@ -56,7 +56,6 @@ class JsonIn {
   std::uint64_t bytes_or(const std::string& key, std::uint64_t def, std::uint64_t hi) const;
   bool boolean_or(const std::string& key, bool def) const;
   std::string string_or(const std::string& key, const std::string& def) const;
-  Vec3d vec3_or(const std::string& key, const Vec3d& def) const;
 
   [[noreturn]] void fail(const std::string& problem) const;
 

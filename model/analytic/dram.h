@@ -2,18 +2,20 @@
 // by several units (memory.dram.units_per_channel > 1), or misses over the shared bus. Each
 // unit's misses reserve their channel's calendar (and the bus's) in the order the units' rays
 // are timed (the SystemC DRAM grants them in time order instead). A line takes
-// dram_line_cycles() of its channel (gpp_recipe.h) and arrives latency_cycles after.
+// dram_line_cycles() of its channel (timing/gpp_recipe.h) and arrives latency_cycles after.
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/analytic_bus.h"
+#include "analytic/bus.h"
 #include "timing/calendar.h"
 #include "timing/gpp_recipe.h"
 #include "timing/object_memory_model.h"
 
 #include <vector>
 
-namespace oprt::timing {
+namespace oprt::analytic {
+
+using timing::Cycle, timing::ObjectMemoryModel, timing::dram_line_cycles;  // Calendar: analytic/bus.h
 
 class AnalyticDram {
  public:
@@ -55,4 +57,4 @@ class AnalyticDram {
   const Cycles line_cycles_;
 };
 
-}  // namespace oprt::timing
+}  // namespace oprt::analytic

@@ -1,5 +1,5 @@
 // The analytic level's bus (hw/bus.h): every transfer counted, and on a shared bus held
-// bus_occupancy() cycles (gpp_recipe.h), first come first served in a calendar. The units'
+// bus_occupancy() cycles (timing/gpp_recipe.h), first come first served in a calendar. The units'
 // answers wait here for it and are granted in the order of their requests, when the GPP's
 // time passes them (before its own writes) or when the GPP waits: the SystemC bus grants
 // them in request order because the units send them in time order.
@@ -16,7 +16,9 @@
 #include <set>
 #include <vector>
 
-namespace oprt::timing {
+namespace oprt::analytic {
+
+using timing::Calendar, timing::FrameRun, timing::PipelinedUnitTiming, timing::bus_occupancy;
 
 class AnalyticBus {
  public:
@@ -85,4 +87,4 @@ class AnalyticBus {
   std::uint64_t seq_ = 0;
 };
 
-}  // namespace oprt::timing
+}  // namespace oprt::analytic

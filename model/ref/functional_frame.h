@@ -10,20 +10,20 @@
 // or with a tree over its spheres only the root, and answered "miss" / "not occluded"); a
 // record is 16 bytes. The per-sphere detail of a record (which spheres, what each cost) is
 // kept only when something needs it: the waveform, which shows each phase, and object
-// memories that are caches, which time each visit (visit_stream.h).
+// memories that are caches, which time each visit (timing/visit_stream.h).
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/bytes.h"
-#include "timing/unit_cycles.h"
+#include "ref/bytes.h"
 #include "ref/frame_trace.h"
 #include "ref/route.h"
+#include "ref/work.h"
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
-namespace oprt::timing {
+namespace oprt {
 
 // One unit's work on one ray, when it entered at least one sphere.
 struct UnitRayWork {
@@ -196,7 +196,7 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& geometry,
 // unit performs it: sphere tests (and node tests of its tree), and for each entered sphere
 // its transform, box tests, triangle tests and memory stall. The tests before a sphere is
 // entered form one phase of node tests, then one of sphere tests. State codes are
-// UnitState's (intersection_unit.h): sphere 1, transform 2, primitive 3, stall 4, box 5,
+// UnitState's (timing/unit_state.h): sphere 1, transform 2, primitive 3, stall 4, box 5,
 // node 6. Needs the detail (FunctionalFrame::detailed).
 template <typename T, typename Phase>
 void for_each_phase(const FunctionalFrame<T>& f, const UnitRayWork* w, std::uint32_t u, std::uint32_t transform_cost,
@@ -235,4 +235,4 @@ extern template void trace_functional(FunctionalFrame<double>&, const SceneGeome
                                       const std::vector<IuRegisters<double>>&, const CameraRays&,
                                       const Shader<double>&, const Arch&, int, int, bool, const RouteTable<double>*);
 
-}  // namespace oprt::timing
+}  // namespace oprt

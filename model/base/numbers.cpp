@@ -1,6 +1,6 @@
-#include "scene/numbers.h"
+#include "base/numbers.h"
 
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <algorithm>
 #include <cctype>

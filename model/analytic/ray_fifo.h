@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace oprt::timing {
+namespace oprt::analytic {
 
 class AnalyticFifos {
  public:
@@ -62,4 +62,4 @@ class AnalyticFifos {
   std::vector<std::uint64_t>& peak_;  // per unit, over the run
 };
 
-}  // namespace oprt::timing
+}  // namespace oprt::analytic

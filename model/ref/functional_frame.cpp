@@ -1,8 +1,9 @@
-#include "timing/functional_frame.h"
+#include "ref/functional_frame.h"
 
+#include "ref/memory_timing.h"
 #include "ref/parallel.h"
 #include "ref/stop.h"
-#include "scene/error.h"
+#include "base/error.h"
 
 #include <stdexcept>
 #ifdef __GLIBC__
@@ -12,9 +13,34 @@
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 
-namespace oprt::timing {
+namespace oprt {
 
 namespace {
+
+// The cycles of one sphere visit. Memory stalls need the visit's exit stages in memory
+// order (SphereVisit::stages), logged only when the memory is not ideal.
+template <typename T>
+inline UnitCycles visit_cycles(const SphereVisit& v, const Arch& a) {
+  UnitCycles c;
+  const KernelCosts& k = a.kernel_costs();
+  c.sphere = v.work.sphere_tests * a.costs.sphere;
+  c.transform = v.work.transforms * k.transform;
+  c.primitive = primitive_cycles(v.work, k);
+  c.box = box_cycles(v.work, a.costs);
+  if (a.memory.model == MemoryModel::latency && v.work.transforms && v.stages) {
+    StreamCosts s;
+    s.latency = static_cast<std::uint32_t>(a.memory.latency_cycles);
+    s.bytes_per_cycle = static_cast<std::uint32_t>(a.memory.bytes_per_cycle);
+    s.triangle_bytes = Bytes<T>::triangle(a.kernel);
+    s.node_bytes = Bytes<T>::node;
+    s.lead = k.transform + (v.work.box_setups ? a.costs.box_setup : 0);
+    s.triangle = k.tri_stage;
+    s.box = a.costs.box;
+    c.stall = stream_stall(s, v.stages, static_cast<std::uint32_t>(v.work.tri_tests() + v.work.box_tests));
+  }
+  return c;
+}
+
 
 // A record as a chunk keeps it: which unit, and indices local to the chunk.
 struct ChunkRecord {
@@ -418,4 +444,4 @@ template void trace_functional(FunctionalFrame<double>&, const SceneGeometry<dou
                                const std::vector<IuRegisters<double>>&, const CameraRays&, const Shader<double>&,
                                const Arch&, int, int, bool, const RouteTable<double>*);
 
-}  // namespace oprt::timing
+}  // namespace oprt

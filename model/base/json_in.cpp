@@ -1,6 +1,7 @@
-#include "scene/json_in.h"
+#include "base/json_in.h"
 
-#include "scene/numbers.h"
+#include "base/numbers.h"
+#include "base/read_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -86,15 +87,7 @@ nlohmann::json JsonIn::parse_text(const std::string& text, const std::string& fi
   }
 }
 
-nlohmann::json JsonIn::parse_file(const std::string& file) {
-  require_regular_file(file);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file, "", "cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(file, "", "cannot read file");
-  return parse_text(ss.str(), file);
-}
+nlohmann::json JsonIn::parse_file(const std::string& file) { return parse_text(read_file_text(file), file); }
 
 void JsonIn::fail(const std::string& problem) const { throw InputError(file_, place(), problem); }
 
@@ -203,7 +196,7 @@ std::string JsonIn::string() const {
   return j_->get<std::string>();
 }
 
-Vec3d JsonIn::vec3() const {
+std::array<double, 3> JsonIn::array3() const {
   if (!j_->is_array() || j_->size() != 3)
     fail("expected an array of 3 numbers, found " +
          (j_->is_array() ? "an array of " + std::to_string(j_->size()) : type_name()));
@@ -230,10 +223,6 @@ bool JsonIn::boolean_or(const std::string& key, bool def) const {
 std::string JsonIn::string_or(const std::string& key, const std::string& def) const {
   auto v = find(key);
   return v ? v->string() : def;
-}
-Vec3d JsonIn::vec3_or(const std::string& key, const Vec3d& def) const {
-  auto v = find(key);
-  return v ? v->vec3() : def;
 }
 
 }  // namespace oprt

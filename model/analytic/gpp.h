@@ -1,17 +1,17 @@
 // The analytic level's GPP (hw/gpp.cpp) for one frame: the plan's order of work (GppWork) and
-// the recipe's steps (gpp_recipe.h), timed by a cycle count instead of a local clock. It is
-// the recipe's clock: it spends the GPP's cycles, writes through the bus (analytic_bus.h) to
-// the units' FIFOs (analytic_fifo.h, analytic_units.h) and collects their answers.
+// the recipe's steps (timing/gpp_recipe.h), timed by a cycle count instead of a local clock. It is
+// the recipe's clock: it spends the GPP's cycles, writes through the bus (analytic/bus.h) to
+// the units' FIFOs (analytic/ray_fifo.h, analytic/units.h) and collects their answers.
 //   A unit's timing for a ray depends only on rays issued before it, so each ray is timed
 // when it is issued. Under the paper's ideal architecture this is exactly the timing of
-// `at`. With a shared bus it is approximate (analytic_bus.h, analytic_units.h).
+// `at`. With a shared bus it is approximate (analytic/bus.h, analytic/units.h).
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/analytic_bus.h"
-#include "timing/analytic_dram.h"
-#include "timing/analytic_fifo.h"
-#include "timing/analytic_units.h"
+#include "analytic/bus.h"
+#include "analytic/dram.h"
+#include "analytic/ray_fifo.h"
+#include "analytic/units.h"
 #include "timing/gpp_plan.h"
 #include "timing/gpp_recipe.h"
 
@@ -19,7 +19,10 @@
 #include <memory>
 #include <vector>
 
-namespace oprt::timing {
+namespace oprt::analytic {
+
+using timing::FrameRun, timing::GppPhase, timing::GppPlan, timing::GppWork, timing::MemoryLoad, timing::RayWrites,
+    timing::Waiting;
 
 template <typename T>
 class AnalyticGpp final : public AnswerSink {
@@ -34,7 +37,7 @@ class AnalyticGpp final : public AnswerSink {
   Cycles run();
   const Waiting<Cycles>& waiting() const { return work_->waiting(); }
 
-  // The recipe's clock (gpp_recipe.h).
+  // The recipe's clock (timing/gpp_clock.h), called by its steps only (timing/gpp_recipe.h).
   void compute(GppPhase phase, std::uint64_t cycles);
   void load(const MemoryLoad& l);
   void write_config(std::uint32_t, std::uint64_t bytes) { g_ = bus_.transfer(g_, bytes); }
@@ -69,5 +72,7 @@ class AnalyticGpp final : public AnswerSink {
 
 extern template class AnalyticGpp<float>;
 extern template class AnalyticGpp<double>;
+static_assert(timing::is_gpp_clock_v<AnalyticGpp<float>> && timing::is_gpp_clock_v<AnalyticGpp<double>>,
+              "the analytic GPP is the recipe's clock (timing/gpp_clock.h)");
 
-}  // namespace oprt::timing
+}  // namespace oprt::analytic

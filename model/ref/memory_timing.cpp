@@ -1,6 +1,6 @@
-#include "timing/memory_timing.h"
+#include "ref/memory_timing.h"
 
-namespace oprt::timing {
+namespace oprt {
 
 std::uint64_t stream_stall(const StreamCosts& c, const std::uint8_t* items, std::uint32_t n) {
   constexpr std::uint8_t kNode = 0xFF;  // ref/bvh_traverse.h kLogNode
@@ -23,4 +23,4 @@ std::uint64_t stream_stall(const StreamCosts& c, const std::uint8_t* items, std:
   return t - work;
 }
 
-}  // namespace oprt::timing
+}  // namespace oprt

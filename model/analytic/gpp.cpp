@@ -1,8 +1,10 @@
-#include "timing/analytic_gpp.h"
+#include "analytic/gpp.h"
 
 #include <algorithm>
 
-namespace oprt::timing {
+namespace oprt::analytic {
+
+using timing::issue_ray, timing::retire_ray;
 
 template <typename T>
 void AnalyticGpp<T>::connect(const FunctionalFrame<T>& f, AnalyticFifos& fifos, AnalyticUnits<T>& units,
@@ -110,4 +112,4 @@ typename AnalyticGpp<T>::Cycles AnalyticGpp<T>::run() {
 template class AnalyticGpp<float>;
 template class AnalyticGpp<double>;
 
-}  // namespace oprt::timing
+}  // namespace oprt::analytic

@@ -1,5 +1,5 @@
 // The analytic level's intersection units (hw/serial_unit.cpp, pipelined_unit.cpp): the same
-// unit timing (serial_unit_timing.h, pipeline_timing.h) through the same object memories
+// unit timing (timing/serial_unit_timing.h, pipeline_timing.h) through the same object memories
 // (object_memory_model.h), placed by a recurrence instead of events:
 //  - a serial unit starts a ray at max(when it finished its previous ray, when the ray
 //    arrived); on a shared bus it waits for its answer's grant, so a ray reaching it
@@ -7,14 +7,14 @@
 //  - a pipelined unit's slots free as its answers leave: it takes its next ray once the
 //    answers that leave before it could have are granted (which may grant them before a
 //    write the GPP makes later in its time but earlier than they: the level's error there).
-// A unit's answer goes to the bus (analytic_bus.h); once it has left, the GPP is told
+// A unit's answer goes to the bus (analytic/bus.h); once it has left, the GPP is told
 // (AnswerSink).
 #pragma once
 
 #include "arch/arch.h"
-#include "timing/analytic_bus.h"
-#include "timing/analytic_fifo.h"
-#include "timing/functional_frame.h"
+#include "analytic/bus.h"
+#include "analytic/ray_fifo.h"
+#include "ref/functional_frame.h"
 #include "timing/object_memory_model.h"
 #include "timing/pipeline_timing.h"
 #include "timing/serial_unit_timing.h"
@@ -24,7 +24,11 @@
 #include <memory>
 #include <vector>
 
-namespace oprt::timing {
+namespace oprt::analytic {
+
+using timing::BurstConsumer, timing::CachedVisits, timing::Cycle, timing::GeometryAddresses, timing::ObjectMemoryModel,
+    timing::PipelineRayBuilder, timing::PipelinedUnitTiming, timing::UnitTimed, timing::VisitReader,
+    timing::VisitStream, timing::Waiting;
 
 // Where the units' answers go once the bus has taken them: the GPP.
 class AnswerSink {
@@ -94,4 +98,4 @@ class AnalyticUnits {
 extern template class AnalyticUnits<float>;
 extern template class AnalyticUnits<double>;
 
-}  // namespace oprt::timing
+}  // namespace oprt::analytic
