@@ -7,7 +7,7 @@ from .values import is_integer
 
 # Parameters a point may set: name -> (kind, constraint). Names of nested architecture fields are
 # dotted ("bus.bytes_per_cycle"); choices are those of model/arch/arch.cpp. A number's range and
-# syntax are oprt's own (scene/numbers.h), checked by `oprt render --check` (check_points): the
+# syntax are oprt's own (base/numbers.h), checked by `oprt render --check` (check_points): the
 # ranges below only document them, and no value is refused here for its size.
 INT, NUMBER, CHOICE, TEXT = "integer", "number", "choice", "text"
 PARAMS = {

@@ -221,7 +221,7 @@ class TestBadSpec(SweepTestCase):
                 self.assertEqual(self.runs(), [], "nothing ran")
                 self.assertFalse(os.path.exists(self.out), "nothing written")
 
-    # Numbers are oprt's to judge (`oprt render --check`, scene/numbers.h): the real binary.
+    # Numbers are oprt's to judge (`oprt render --check`, base/numbers.h): the real binary.
     NUMBER_CASES = [
         ({"grid": {"ius": [1, 0]}}, "spec.json: /grid/ius/1: ius: value 0 is out of range [1, 65536]"),
         ({"grid": {"ius": ["8", "x"]}}, "spec.json: /grid/ius/1: ius: expected a whole number in [1, 65536]"),
