@@ -74,13 +74,13 @@ class Testbench : public sc_module {
     for (int f = job_.frames.first; f <= job_.frames.last; ++f) {
       frame_ = f;
       const auto t0 = std::chrono::steady_clock::now();
-      reset_stats();
+      engine_->reset_stats();
       if (deforming_) update_deforming(geometry_, *job_.scene, f);
       job_.assignment = policy_->for_frame(f, previous_ ? &*previous_ : nullptr);
       engine_->assign(job_.assignment);
       if (!set_up) {  // load the object memories before the animation, outside every frame
         engine_->setup();
-        reset_stats();
+        engine_->reset_stats();
         set_up = true;
       }
       FrameImage image(job_.width, job_.height);
@@ -89,7 +89,7 @@ class Testbench : public sc_module {
       if (sel.frames && f == sel.frames->first)
         set_trace_window(std::max<std::uint64_t>(sel.from_ps, sc_time_stamp().value()), sel.to_ps);
       engine_->run_frame(cmd);
-      const timing::FrameRun run = collect();
+      const timing::FrameRun run = engine_->figures();
       previous_ = timing::measured_frame(run, job_.arch);
       const FrameStats fs = frame_stats(run, job_, geometry_, f, seconds_since(t0), image);
       finish_frame(job_, stats_.get(), fs, std::move(image));
@@ -174,59 +174,6 @@ class Testbench : public sc_module {
     for (const auto& [name, width] : vcd_->variables()) signals.push_back({name, width});
     write_gtkwave_save(job_.vcd_path, (vcd.parent_path() / (vcd.stem().string() + ".gtkw")).string(), signals,
                        vcd_->dump_start(), vcd_->dump_end());
-  }
-
-  void reset_stats() {
-    for (std::size_t u = 0; u < engine_->units(); ++u) {
-      engine_->unit(u).reset_stats();
-      engine_->memory(u).reset_stats();
-      engine_->fifo(u).reset_counts();
-    }
-    engine_->bus().reset_stats();
-  }
-
-  // The frame as the modules counted it.
-  timing::FrameRun collect() {
-    const sc_time cycle(job_.arch.cycle_ns(), SC_NS);
-    const hw::GppStats& g = engine_->gpp().stats();
-    timing::FrameRun run;
-    static_cast<timing::GppFigures&>(run) = g;
-    run.makespan = static_cast<std::uint64_t>((g.end - g.start) / cycle + 0.5);
-    run.bus_busy = engine_->bus().busy_cycles();
-    run.bus_bytes = engine_->bus().bytes();
-    run.bus_transfers = engine_->bus().transfers();
-    const auto& f = engine_->functional();
-    run.route.cycles = g.route_cycles;
-    timing::route_figures(f, engine_->units(), run.route);
-    timing::ray_figures(f, job_.arch, engine_->units(), g.waiting,
-                    [&](const sc_time& t) { return static_cast<std::uint64_t>(t / cycle + 0.5); }, run.ray_figures);
-    for (std::size_t u = 0; u < engine_->units(); ++u) {
-      const hw::UnitStats& s = engine_->unit(u).stats();
-      const hw::ObjectMemory& m = engine_->memory(u);
-      hw::RayFifo& fifo = engine_->fifo(u);
-      timing::UnitTimed t;
-      t.rays = timing::all_kinds(s.rays);
-      t.bus_stall = s.bus_stall;
-      t.cache = m.is_cache();
-      t.memory = m.cache_counts();
-      t.cache_stall = s.cache_stall;
-      t.pipeline = s.pipeline;
-      t.fifo_pushes = fifo.pushes();
-      t.fifo_pops = fifo.pops();
-      t.fifo_peak = fifo.peak_occupancy();
-      if (u < g.unit_memory_load_bytes.size()) t.memory_load_bytes = g.unit_memory_load_bytes[u];
-      const auto unit = static_cast<std::uint32_t>(u);
-      timing::UnitRun r = timing::unit_run(f, unit, job_.assignment.unit[u], geometry_, job_.arch, t);
-      // What the modules did must be the work the trace holds: anything else is a fault in
-      // the model's plumbing.
-      if (!s.pipeline && s.charged != r.cycles.busy() + r.memory.stall)
-        SC_REPORT_FATAL("testbench", ("unit " + std::to_string(u) + " waited out other cycles than its work").c_str());
-      if (m.bytes_read() != r.memory_bytes)
-        SC_REPORT_FATAL("testbench", ("object memory " + std::to_string(u) + " was read other bytes than the work needs").c_str());
-      run.units.push_back(r);
-    }
-    timing::report_work(engine_->functional(), run);
-    return run;
   }
 
   void progress(std::uint64_t done, std::uint64_t total) {

@@ -11,7 +11,7 @@ using namespace sc_core;
 template <typename T>
 Engine<T>::Engine(const sc_module_name& name, const Scene& scene, const SceneGeometry<T>& geometry, const Arch& arch,
                   std::size_t units, VcdWriter* vcd, TimelineWriter* timeline)
-    : sc_module(name), host("host"), mem("mem") {
+    : sc_module(name), host("host"), mem("mem"), geometry_(geometry), arch_(arch) {
   const bool decoupled = arch.level == Level::lt;
   gpp_ = std::make_unique<Gpp<T>>("gpp", scene, geometry, arch, frame_, vcd, timeline);
   bus_ = std::make_unique<Bus>("bus", arch, decoupled, vcd, timeline);
@@ -80,7 +80,61 @@ template <typename T>
 void Engine<T>::assign(const Assignment& a) {
   if (a.units() != units_.size())
     SC_REPORT_FATAL(name(), "assignment has a different number of units than the engine");
+  assignment_ = a;
   gpp_->set_assignment(a.unit);
+}
+
+template <typename T>
+void Engine<T>::reset_stats() {
+  for (std::size_t u = 0; u < units(); ++u) {
+    unit(u).reset_stats();
+    memory(u).reset_stats();
+    fifo(u).reset_counts();
+  }
+  bus().reset_stats();
+}
+
+template <typename T>
+timing::FrameRun Engine<T>::figures() {
+  const sc_time cycle(arch_.cycle_ns(), SC_NS);
+  auto cycles = [&](const sc_time& t) { return static_cast<std::uint64_t>(t / cycle + 0.5); };
+  const GppStats& g = gpp().stats();
+  timing::FrameRun run;
+  static_cast<timing::GppFigures&>(run) = g;
+  run.makespan = cycles(g.end - g.start);
+  run.bus_busy = bus().busy_cycles();
+  run.bus_bytes = bus().bytes();
+  run.bus_transfers = bus().transfers();
+  run.route.cycles = g.route_cycles;
+  timing::route_figures(frame_, units(), run.route);
+  timing::ray_figures(frame_, arch_, units(), g.waiting, cycles, run.ray_figures);
+  for (std::size_t u = 0; u < units(); ++u) {
+    const UnitStats& s = unit(u).stats();
+    const ObjectMemory& m = memory(u);
+    RayFifo& f = fifo(u);
+    timing::UnitTimed t;
+    t.rays = timing::all_kinds(s.rays);
+    t.bus_stall = s.bus_stall;
+    t.cache = m.is_cache();
+    t.memory = m.cache_counts();
+    t.cache_stall = s.cache_stall;
+    t.pipeline = s.pipeline;
+    t.fifo_pushes = f.pushes();
+    t.fifo_pops = f.pops();
+    t.fifo_peak = f.peak_occupancy();
+    if (u < g.unit_memory_load_bytes.size()) t.memory_load_bytes = g.unit_memory_load_bytes[u];
+    const auto id = static_cast<std::uint32_t>(u);
+    timing::UnitRun r = timing::unit_run(frame_, id, assignment_.unit[u], geometry_, arch_, t);
+    // What the modules did must be the work the trace holds: anything else is a fault in
+    // the model's plumbing.
+    if (!s.pipeline && s.charged != r.cycles.busy() + r.memory.stall)
+      SC_REPORT_FATAL(name(), ("unit " + std::to_string(u) + " waited out other cycles than its work").c_str());
+    if (m.bytes_read() != r.memory_bytes)
+      SC_REPORT_FATAL(name(), ("object memory " + std::to_string(u) + " was read other bytes than the work needs").c_str());
+    run.units.push_back(r);
+  }
+  timing::report_work(frame_, run);
+  return run;
 }
 
 template <typename T>

@@ -64,6 +64,11 @@ class Engine : public sc_core::sc_module {
   void setup();
   // Spheres per unit for the next frames (assignment.units() must equal units()).
   void assign(const Assignment& a);
+  // The frame just run as the modules counted it, each unit's figures made from its work in
+  // the functional trace (timing/unit_run.h); stops the simulation if a module waited out
+  // other cycles, or read other bytes, than that work. Then reset_stats() for the next frame.
+  timing::FrameRun figures();
+  void reset_stats();
 
   std::size_t units() const { return units_.size(); }
   Gpp<T>& gpp() { return *gpp_; }
@@ -84,6 +89,9 @@ class Engine : public sc_core::sc_module {
   std::unique_ptr<tlm_utils::multi_passthrough_target_socket<Engine>> fills_;
   bool external_ = false;
   FunctionalFrame<T> frame_;  // the frame's traced work: written by the GPP, read by the units
+  const SceneGeometry<T>& geometry_;
+  const Arch arch_;
+  Assignment assignment_;
   std::unique_ptr<Gpp<T>> gpp_;
   std::unique_ptr<Bus> bus_;
   std::unique_ptr<Dram> dram_;

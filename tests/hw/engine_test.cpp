@@ -62,7 +62,7 @@ void check_matches_reference(const std::string& name, int size, const std::strin
   const FrameResult ref = render_reference(scene, g, 0, size, size);
   // And the reference with a BVH is the brute-force one (ref/bvh_ref_test.cpp).
   if (accel == "bvh") CHECK(ref.image == render_reference(scene, build_geometry<float>(scene, run.spheres), 0, size, size).image);
-  const FrameImage& img = run.job.images.at(0);
+  const FrameImage& img = run.images.at(0);
   CHECK(img.r == ref.image.r);
   CHECK(img.g == ref.image.g);
   CHECK(img.b == ref.image.b);
@@ -103,9 +103,9 @@ void check_busy_is_work(const std::string& accel, const std::string& top = "flat
   const int n = 32;
   test::Run run = test::simulate_scene<float>(scene, arch, {3, 3}, n, n);
   const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres, accel_named(accel));
-  const auto expect = replay_busy(scene, g, run.job.assignment, arch.costs, 3, n, n, top == "bvh");
-  CHECK(run.job.images.at(0) == render_reference(scene, g, 3, n, n).image);
-  const FrameStats& fs = run.job.results.at(0);
+  const auto expect = replay_busy(scene, g, run.assignment, arch.costs, 3, n, n, top == "bvh");
+  CHECK(run.images.at(0) == render_reference(scene, g, 3, n, n).image);
+  const timing::FrameRun& fs = run.results.at(0);
   REQUIRE(fs.units.size() == 7);
   for (std::size_t u = 0; u < fs.units.size(); ++u) {
     INFO("unit " << u);
@@ -117,7 +117,7 @@ void check_busy_is_work(const std::string& accel, const std::string& top = "flat
     CHECK((fs.units[u].cycles.box > 0) == (accel == "bvh"));
     CHECK((fs.units[u].cycles.node > 0) == (top == "bvh"));
     CHECK(fs.units[u].cycles.stall == 0);  // ideal bus and memory
-    CHECK(fs.units[u].cycles.busy() + fs.units[u].idle == fs.makespan);
+    CHECK(fs.units[u].cycles.busy() <= fs.makespan);  // its work fits in the frame: idle the rest
   }
   // The makespan is at least the busiest unit's work and, with ideal everything, the
   // frame cannot end before the last answer.
@@ -152,7 +152,7 @@ TEST_CASE("every ray retires exactly once and every unit answers every ray", "[e
   const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres);
   for (int f = 0; f <= 1; ++f) {
     const FrameResult ref = render_reference(scene, g, f, n, n);
-    const FrameStats& fs = run.job.results.at(f);
+    const timing::FrameRun& fs = run.results.at(f);
     CHECK(fs.rays[0] == static_cast<std::uint64_t>(n * n));
     CHECK(fs.rays[1] == ref.work.rays[1]);  // the reference's shadow rays, one each
     for (const auto& u : fs.units) CHECK(u.rays == fs.rays[0] + fs.rays[1]);
@@ -160,7 +160,7 @@ TEST_CASE("every ray retires exactly once and every unit answers every ray", "[e
     WorkCounts primary;
     for (const auto& u : fs.units) primary += u.work[0];
     CHECK(primary == ref.work.total(RayKind::primary));
-    CHECK(run.job.images.at(f) == ref.image);
+    CHECK(run.images.at(f) == ref.image);
   }
 }
 
@@ -181,9 +181,9 @@ void check_contended(const std::string& accel, std::uint64_t sram = 0, const std
   const int n = 24;
   test::Run b = test::simulate_scene<float>(scene, tight, {0, 0}, n, n);
   const SceneGeometry<float> g = build_geometry<float>(scene, b.spheres, accel_named(accel));
-  CHECK(b.job.images.at(0) == render_reference(scene, build_geometry<float>(scene, b.spheres), 0, n, n).image);
-  const auto expect = replay_busy(scene, g, b.job.assignment, tight.costs, 0, n, n, top == "bvh");
-  const FrameStats& fb = b.job.results.at(0);
+  CHECK(b.images.at(0) == render_reference(scene, build_geometry<float>(scene, b.spheres), 0, n, n).image);
+  const auto expect = replay_busy(scene, g, b.assignment, tight.costs, 0, n, n, top == "bvh");
+  const timing::FrameRun& fb = b.results.at(0);
   std::uint64_t stall = 0, most = 0;
   for (std::size_t u = 0; u < fb.units.size(); ++u) {
     CHECK(fb.units[u].cycles.sphere == expect[u].sphere);  // contention changes time, not work
@@ -193,7 +193,7 @@ void check_contended(const std::string& accel, std::uint64_t sram = 0, const std
     CHECK(fb.units[u].cycles.node == expect[u].node);
     stall += fb.units[u].cycles.stall;
     most = std::max(most, fb.units[u].cycles.busy() + fb.units[u].cycles.stall);
-    CHECK(fb.units[u].cycles.busy() + fb.units[u].cycles.stall + fb.units[u].idle == fb.makespan);
+    CHECK(fb.units[u].cycles.busy() + fb.units[u].cycles.stall <= fb.makespan);
   }
   CHECK(stall > 0);
   CHECK(fb.makespan > most);  // rays wait for the bus and for each other too
@@ -245,14 +245,14 @@ TEST_CASE("watertight kernel: render equals reference bit for bit, busy cycles a
   test::Run run = test::simulate_scene<float>(scene, arch, {0, 0}, n, n);
   const SceneGeometry<float> g = build_geometry<float>(scene, run.spheres, Kernel::watertight);
   const FrameResult ref = render_reference(scene, g, 0, n, n);
-  CHECK(run.job.images.at(0) == ref.image);
+  CHECK(run.images.at(0) == ref.image);
   std::size_t hits = 0;
   for (auto o : ref.image.object) hits += o != 0xFFFFFFFFu;
   CHECK(hits > ref.image.size() / 4);
   // Busy cycles: the replayed work of each unit times the watertight costs (transform 20,
   // exit stages uv 18, w 20, det 21, t 27: the schedules'), not Moller's.
-  const auto expect = replay_busy(scene, g, run.job.assignment, arch.costs, 0, n, n);
-  const FrameStats& fs = run.job.results.at(0);
+  const auto expect = replay_busy(scene, g, run.assignment, arch.costs, 0, n, n);
+  const timing::FrameRun& fs = run.results.at(0);
   REQUIRE(fs.units.size() == 6);
   WorkCounts all;
   for (std::size_t u = 0; u < fs.units.size(); ++u) {
