@@ -23,6 +23,17 @@
 
 namespace oprt {
 
+void mark_not_traced(FrameImage& img, const std::vector<std::uint32_t>& traced) {
+  std::vector<char> keep(img.size(), 0);
+  for (std::uint32_t p : traced) keep[p] = 1;
+  for (std::size_t p = 0; p < img.size(); ++p) {
+    if (keep[p]) continue;
+    img.r[p] = img.g[p] = img.b[p] = 0;
+    img.z[p] = std::numeric_limits<float>::quiet_NaN();
+    img.object[p] = img.prim[p] = kNotTraced;
+  }
+}
+
 FrameImage::FrameImage(int w, int h) : width(w), height(h) {
   const std::size_t n = size();
   r.assign(n, 0);

@@ -23,6 +23,12 @@ struct FrameImage {
   bool operator==(const FrameImage& o) const;
 };
 
+// A pixel a sampled run (--sample) did not trace: R = G = B = 0, Z = NaN, objectId = primId =
+// kNotTraced (0xFFFFFFFF stays "no hit").
+constexpr std::uint32_t kNotTraced = 0xFFFFFFFEu;
+// Marks every pixel but `traced` (frame pixel indices) as not traced; the traced keep their values.
+void mark_not_traced(FrameImage& img, const std::vector<std::uint32_t>& traced);
+
 void write_exr(const std::string& path, const FrameImage& img);
 // Throws InputError (naming the file) if it cannot be read or lacks one of the six channels.
 FrameImage read_exr(const std::string& path);

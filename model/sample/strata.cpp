@@ -27,8 +27,8 @@ double Strata::total(std::size_t k) const {
   return s;
 }
 
-template <typename F>
-void Strata::deviations(F&& f) const {
+const std::vector<double>& Strata::deviations() const {
+  if (!d_.empty() || y_.empty()) return d_;
   std::vector<double> tg(groups_ * k_, 0.0), ng(groups_, 0.0), members(groups_, 0.0);
   for (std::size_t i = 0; i < pixels(); ++i) {
     const std::uint32_t g = group_[i];
@@ -36,29 +36,30 @@ void Strata::deviations(F&& f) const {
     members[g] += 1;
     for (std::size_t k = 0; k < k_; ++k) tg[g * k_ + k] += block_size_[i] * at(i, k);
   }
-  std::vector<double> d(k_);
+  d_.assign(y_.size(), 0.0);
   for (std::size_t i = 0; i < pixels(); ++i) {
     const std::uint32_t g = group_[i];
     if (members[g] < 2) continue;  // a group of one tells nothing of its variance
-    const double share = block_size_[i] / ng[g];
-    for (std::size_t k = 0; k < k_; ++k) d[k] = block_size_[i] * at(i, k) - share * tg[g * k_ + k];
-    f(d, members[g] / (members[g] - 1));
+    const double share = block_size_[i] / ng[g], factor = std::sqrt(members[g] / (members[g] - 1));
+    for (std::size_t k = 0; k < k_; ++k) d_[i * k_ + k] = factor * (block_size_[i] * at(i, k) - share * tg[g * k_ + k]);
   }
+  return d_;
 }
 
 double Strata::variance(std::size_t k) const {
+  const std::vector<double>& d = deviations();
   double v = 0;
-  deviations([&](const std::vector<double>& d, double factor) { v += factor * d[k] * d[k]; });
+  for (std::size_t i = 0; i < d.size(); i += k_) v += d[i + k] * d[i + k];
   return v;
 }
 
 std::vector<double> Strata::covariance(const std::vector<std::size_t>& figs) const {
+  const std::vector<double>& d = deviations();
   const std::size_t m = figs.size();
   std::vector<double> c(m * m, 0.0);
-  deviations([&](const std::vector<double>& d, double factor) {
+  for (std::size_t i = 0; i < d.size(); i += k_)
     for (std::size_t a = 0; a < m; ++a)
-      for (std::size_t b = 0; b <= a; ++b) c[a * m + b] += factor * d[figs[a]] * d[figs[b]];
-  });
+      for (std::size_t b = 0; b <= a; ++b) c[a * m + b] += d[i + figs[a]] * d[i + figs[b]];
   for (std::size_t a = 0; a < m; ++a)
     for (std::size_t b = 0; b < a; ++b) c[b * m + a] = c[a * m + b];
   return c;
@@ -66,13 +67,17 @@ std::vector<double> Strata::covariance(const std::vector<std::size_t>& figs) con
 
 std::vector<double> Strata::covariance_with(const std::vector<double>& w, const std::vector<std::size_t>& figs) const {
   if (w.size() != k_) throw std::invalid_argument("Strata::covariance_with: one weight per figure");
+  const std::vector<double>& d = deviations();
+  std::vector<std::size_t> used;  // the figures with a weight
+  for (std::size_t k = 0; k < k_; ++k)
+    if (w[k] != 0) used.push_back(k);
   std::vector<double> c(figs.size() + 1, 0.0);
-  deviations([&](const std::vector<double>& d, double factor) {
+  for (std::size_t i = 0; i < d.size(); i += k_) {
     double lin = 0;
-    for (std::size_t k = 0; k < k_; ++k) lin += w[k] * d[k];
-    for (std::size_t a = 0; a < figs.size(); ++a) c[a] += factor * lin * d[figs[a]];
-    c.back() += factor * lin * lin;
-  });
+    for (std::size_t k : used) lin += w[k] * d[i + k];
+    for (std::size_t a = 0; a < figs.size(); ++a) c[a] += lin * d[i + figs[a]];
+    c.back() += lin * lin;
+  }
   return c;
 }
 
@@ -90,13 +95,18 @@ std::vector<std::vector<double>> normal_draws(const std::vector<double>& mean, c
                                               std::size_t draws, std::uint64_t seed) {
   const std::size_t m = mean.size();
   if (cov.size() != m * m) throw std::invalid_argument("normal_draws: covariance size");
-  // Cholesky with a ridge of 1e-12 of the largest variance (a semi-definite estimate).
-  double scale = 0;
-  for (std::size_t a = 0; a < m; ++a) scale = std::max(scale, cov[a * m + a]);
-  std::vector<double> l(m * m, 0.0);
+  // The Cholesky factor of the correlation matrix (coordinates of any scale: cycles and joules
+  // side by side), with a ridge of 1e-12 for an estimate that is only semi-definite; a
+  // coordinate without variance stays at its mean.
+  std::vector<double> sd(m), l(m * m, 0.0);
+  for (std::size_t a = 0; a < m; ++a) sd[a] = cov[a * m + a] > 0 ? std::sqrt(cov[a * m + a]) : 0.0;
+  const auto corr = [&](std::size_t a, std::size_t b) {
+    if (sd[a] == 0 || sd[b] == 0) return a == b ? 1.0 : 0.0;
+    return a == b ? 1.0 + 1e-12 : cov[a * m + b] / (sd[a] * sd[b]);
+  };
   for (std::size_t a = 0; a < m; ++a)
     for (std::size_t b = 0; b <= a; ++b) {
-      double s = cov[a * m + b] + (a == b ? 1e-12 * scale : 0.0);
+      double s = corr(a, b);
       for (std::size_t k = 0; k < b; ++k) s -= l[a * m + k] * l[b * m + k];
       if (a == b) l[a * m + a] = s > 0 ? std::sqrt(s) : 0.0;
       else l[a * m + b] = l[b * m + b] > 0 ? s / l[b * m + b] : 0.0;
@@ -111,9 +121,9 @@ std::vector<std::vector<double>> normal_draws(const std::vector<double>& mean, c
       if (a + 1 < m) z[a + 1] = r * std::sin(t);
     }
     for (std::size_t a = 0; a < m; ++a) {
-      double v = mean[a];
+      double v = 0;
       for (std::size_t b = 0; b <= a; ++b) v += l[a * m + b] * z[b];
-      x[a] = v;
+      x[a] = mean[a] + sd[a] * v;
     }
   }
   return out;

@@ -33,7 +33,10 @@ class Strata {
          std::uint32_t groups);
   std::size_t figures() const { return k_; }
   std::size_t pixels() const { return block_size_.size(); }
-  double& at(std::size_t pixel, std::size_t figure) { return y_[pixel * k_ + figure]; }
+  double& at(std::size_t pixel, std::size_t figure) {
+    d_.clear();  // the deviations are computed again on the next variance
+    return y_[pixel * k_ + figure];
+  }
   double at(std::size_t pixel, std::size_t figure) const { return y_[pixel * k_ + figure]; }
 
   double sample_sum(std::size_t figure) const;  // sum of y over the sampled pixels
@@ -46,13 +49,14 @@ class Strata {
   std::vector<double> covariance_with(const std::vector<double>& w, const std::vector<std::size_t>& figures) const;
 
  private:
-  // Calls f(T_i - (N_i / N_g) T_g for every figure, i) for each pixel, with the factor g/(g-1).
-  template <typename F>
-  void deviations(F&& f) const;
+  // Each pixel's T_i - (N_i / N_g) T_g for every figure, times sqrt(g / (g - 1)) (0 in a
+  // group of one), computed once after the figures are set.
+  const std::vector<double>& deviations() const;
   std::size_t k_;
   std::vector<std::uint32_t> block_size_, group_;
   std::uint32_t groups_;
   std::vector<double> y_;
+  mutable std::vector<double> d_;
 };
 
 // Draws of a normal vector N(mean, cov) (cov row-major, positive semi-definite: a tiny ridge
