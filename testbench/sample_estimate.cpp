@@ -160,6 +160,23 @@ Body body(const Resources& res, const Strata& st, const std::vector<double>& w, 
   return b;
 }
 
+// Under queueing (eta > 1) the body is not one resource's demand, and its error is not that
+// maximum's alone: the pace of the frame follows, pixel by pixel, whichever resource is the
+// slowest on its rays. The body's relative error as that per-pixel pace's (a ratio estimate)
+// bounds it from the other side; the interval takes the wider of the two.
+double pace_sd(const SampleFrame& f, const Strata& st, const PixelSample& s, double body) {
+  std::vector<std::uint32_t> size(s.size()), group(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) size[i] = s.block_size(i), group[i] = s.group(i);
+  Strata pace(1, std::move(size), std::move(group), s.groups());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    double q = std::max(st.at(i, f.extra(SampleFrame::bus_cycles)), st.at(i, f.extra(SampleFrame::gpp_cycles)));
+    for (std::size_t u = 0; u < f.units; ++u) q = std::max(q, st.at(i, f.work(u)));
+    pace.at(i, 0) = q;
+  }
+  const double total = pace.total(0);
+  return total > 0 ? body * std::sqrt(std::max(0.0, pace.variance(0))) / total : 0.0;
+}
+
 // A normal interval at 95 %.
 nlohmann::json normal_interval(double estimate, double sd) {
   return nlohmann::json::array({estimate - sample::kZ95 * sd, estimate + sample::kZ95 * sd});
@@ -282,8 +299,12 @@ std::vector<std::string> flags_of(const FrameStats& fs, const timing::SampleFram
                                   const Body& b, const Arch& a, bool feedback, std::size_t pixels) {
   std::vector<std::string> flags;
   bool few = pixels < kFewRecords;
-  for (std::size_t k : b.candidates)
-    if (res.unit[k] >= 0 && res.r[k].sd > 0 && f.records[static_cast<std::size_t>(res.unit[k])] < kFewRecords) few = true;
+  double largest = 0;
+  for (const Ratio& r : res.r) largest = std::max(largest, r.estimate);
+  for (std::size_t k : b.candidates)  // those within two standard errors of the largest
+    if (res.unit[k] >= 0 && res.r[k].sd > 0 && res.r[k].estimate + 2 * res.r[k].sd >= largest &&
+        f.records[static_cast<std::size_t>(res.unit[k])] < kFewRecords)
+      few = true;
   if (few) flags.push_back("few_rays");
   if ((a.fifo_depth > 0 || a.bus.model == BusModel::shared) && b.eta > 1.05) flags.push_back("ordering");
   if (a.iu.model == IuModel::pipelined) flags.push_back("pipelined");
@@ -316,6 +337,11 @@ SampleEstimate SampleEstimator::estimate(const timing::FrameRun& run, const Fram
   SampleEstimate out;
   out.makespan = start + b.eta * b.max.estimate();
   out.makespan_interval = {start + b.eta * b.max.low, start + b.eta * b.max.high};
+  if (b.eta > 1.05) {  // queueing: the wider of the two errors (pace_sd)
+    const double body = out.makespan - start, half = sample::kZ95 * pace_sd(f, st, *sample_, body);
+    out.makespan_interval = {std::min(out.makespan_interval[0], out.makespan - half),
+                             std::max(out.makespan_interval[1], out.makespan + half)};
+  }
   if (b.max.plain <= 0) {  // nothing but the start: the body compressed as it is
     out.makespan = start + expansion_ * (sampled - start);
     out.makespan_interval = {out.makespan, out.makespan};
