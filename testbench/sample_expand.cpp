@@ -39,9 +39,15 @@ void expand_pipeline(timing::PipelineStats& p, double e) {
 }
 
 void expand_unit(UnitFrameStats& u, double e, std::uint64_t makespan, bool unbounded_fifo) {
-  // A backlog (the unit fell behind the GPP) grows with the frame; a FIFO that held a ray or
-  // two at a time holds as many in the full frame.
-  if (unbounded_fifo && u.fifo_peak * 100 > u.fifo_pushes) u.fifo_peak = expand_count(u.fifo_peak, e);
+  // An unbounded FIFO is sized by its peak. One that held all its rays but a few at once (the
+  // GPP wrote them faster than the unit took any) holds all the full frame's but as few; a
+  // backlog that grew over the frame (the unit fell behind) grows with it; a FIFO that held a
+  // ray or two at a time holds as many in the full frame.
+  if (unbounded_fifo) {
+    const std::uint64_t taken = u.fifo_pushes - std::min(u.fifo_peak, u.fifo_pushes);
+    if (taken <= 1 + u.fifo_pushes / 100) u.fifo_peak = expand_count(u.fifo_pushes, e) - taken;
+    else if (u.fifo_peak * 100 > u.fifo_pushes) u.fifo_peak = expand_count(u.fifo_peak, e);
+  }
   for (std::uint64_t* x : {&u.rays, &u.memory.hits, &u.memory.misses, &u.memory.dram_bytes, &u.memory.stall,
                            &u.fifo_pushes, &u.fifo_pops, &u.memory_bytes, &u.cycles.sphere, &u.cycles.transform,
                            &u.cycles.primitive, &u.cycles.box, &u.cycles.node, &u.cycles.stall})

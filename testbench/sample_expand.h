@@ -13,9 +13,8 @@ std::uint64_t expand_count(std::uint64_t v, double e);
 
 // The frame's figures as the full frame would count them: every count of rays, work, bytes,
 // FIFO traffic, cache, pipeline and router expanded by e; the start and the loads kept; the
-// makespan and frame time the estimate's; an unbounded FIFO's peak expanded where the sample's
-// peak was a backlog (more than a hundredth of the unit's rays), kept otherwise; idle cycles
-// recomputed. Its energy is left for the caller (the cost model on it).
+// makespan and frame time the estimate's; an unbounded FIFO's peak as the full frame's would
+// be (expand_unit); idle cycles recomputed. Its energy is left for the caller (the cost model on it).
 FrameStats expand_frame(const FrameStats& fs, double e, std::uint64_t makespan, double frame_time_s, bool unbounded_fifos);
 
 }  // namespace oprt
