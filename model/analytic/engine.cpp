@@ -76,7 +76,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   ray_figures(frame_, arch_, units, gpp.waiting(), [](std::uint64_t c) { return c; }, out.ray_figures);
   *cmd.image = frame_.image;
   report_work(frame_, out);
-  if (cmd.sample)
+  if (frame_.sample)
     out.sample = timing::sample_figures(frame_, arch_, units, [&](std::size_t entered) { return plan_.route_cycles(entered); });
   unit_figures(out, timed, fifos, iu);
   return out;
