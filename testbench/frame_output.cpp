@@ -65,7 +65,8 @@ void print_sample_line(const FrameStats& fs) {
 void finish_frame(RenderJob& job, StatsWriter* stats, const FrameStats& fs, FrameImage&& image) {
   if (job.write_files) {
     const auto dir = std::filesystem::path(job.out_dir);
-    write_frame_files((dir / frame_name(fs.frame, "exr")).string(), (dir / frame_name(fs.frame, "png")).string(), image);
+    write_frame_files((dir / frame_name(fs.frame, "exr")).string(), (dir / frame_name(fs.frame, "png")).string(), image,
+                      job.sample != nullptr);
     if (job.cost) stats->set_area(job.cost->area());
     stats->add(fs);
     if (job.progress) std::fprintf(stderr, "\r\033[K");

@@ -23,12 +23,7 @@ constexpr std::size_t kDraws = 2000;
 constexpr std::uint64_t kFewRecords = 30;  // below this the normal approximation of a unit's error fails
 
 Strata strata_of(const SampleFrame& f, const PixelSample& s) {
-  std::vector<std::uint32_t> size(s.size()), group(s.size());
-  for (std::size_t i = 0; i < s.size(); ++i) size[i] = s.block_size(i), group[i] = s.group(i);
-  Strata st(f.figures(), std::move(size), std::move(group), s.groups());
-  for (std::size_t i = 0; i < s.size(); ++i)
-    for (std::size_t k = 0; k < f.figures(); ++k) st.at(i, k) = f.y[i * f.figures() + k];
-  return st;
+  return Strata(f.y.data(), f.figures(), s.block_sizes(), s.group_of(), s.groups());
 }
 
 // A timed figure expanded by the ratio to its proxy (a per-pixel figure): X = (X_s / P_s) HT(P).
@@ -164,17 +159,15 @@ Body body(const Resources& res, const Strata& st, const std::vector<double>& w, 
 // maximum's alone: the pace of the frame follows, pixel by pixel, whichever resource is the
 // slowest on its rays. The body's relative error as that per-pixel pace's (a ratio estimate)
 // bounds it from the other side; the interval takes the wider of the two.
-double pace_sd(const SampleFrame& f, const Strata& st, const PixelSample& s, double body) {
-  std::vector<std::uint32_t> size(s.size()), group(s.size());
-  for (std::size_t i = 0; i < s.size(); ++i) size[i] = s.block_size(i), group[i] = s.group(i);
-  Strata pace(1, std::move(size), std::move(group), s.groups());
-  for (std::size_t i = 0; i < s.size(); ++i) {
+double pace_sd(const SampleFrame& f, const Strata& st, double body) {
+  std::vector<double> pace(st.pixels());
+  for (std::size_t i = 0; i < st.pixels(); ++i) {
     double q = std::max(st.at(i, f.extra(SampleFrame::bus_cycles)), st.at(i, f.extra(SampleFrame::gpp_cycles)));
     for (std::size_t u = 0; u < f.units; ++u) q = std::max(q, st.at(i, f.work(u)));
-    pace.at(i, 0) = q;
+    pace[i] = q;
   }
-  const double total = pace.total(0);
-  return total > 0 ? body * std::sqrt(std::max(0.0, pace.variance(0))) / total : 0.0;
+  const double total = st.series_total(pace);
+  return total > 0 ? body * std::sqrt(std::max(0.0, st.series_variance(pace))) / total : 0.0;
 }
 
 // A normal interval at 95 %.
@@ -338,7 +331,7 @@ SampleEstimate SampleEstimator::estimate(const timing::FrameRun& run, const Fram
   out.makespan = start + b.eta * b.max.estimate();
   out.makespan_interval = {start + b.eta * b.max.low, start + b.eta * b.max.high};
   if (b.eta > 1.05) {  // queueing: the wider of the two errors (pace_sd)
-    const double body = out.makespan - start, half = sample::kZ95 * pace_sd(f, st, *sample_, body);
+    const double body = out.makespan - start, half = sample::kZ95 * pace_sd(f, st, body);
     out.makespan_interval = {std::min(out.makespan_interval[0], out.makespan - half),
                              std::max(out.makespan_interval[1], out.makespan + half)};
   }

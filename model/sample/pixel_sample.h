@@ -46,9 +46,11 @@ class PixelSample {
   const std::vector<std::uint32_t>& pixels() const { return pixels_; }
   // Pixels in sample i's block (n, or fewer on the image's right and bottom edges).
   std::uint32_t block_size(std::size_t i) const { return block_size_[i]; }
+  const std::vector<std::uint32_t>& block_sizes() const { return block_size_; }
   // The group (pair, or three) sample i's block is collapsed with for the variance;
   // groups are numbered 0 .. groups() - 1 and each holds consecutive samples.
   std::uint32_t group(std::size_t i) const { return group_[i]; }
+  const std::vector<std::uint32_t>& group_of() const { return group_; }
   std::uint32_t groups() const { return groups_; }
 
  private:

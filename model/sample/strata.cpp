@@ -6,79 +6,103 @@
 
 namespace oprt::sample {
 
-Strata::Strata(std::size_t figures, std::vector<std::uint32_t> block_size, std::vector<std::uint32_t> group,
-               std::uint32_t groups)
-    : k_(figures), block_size_(std::move(block_size)), group_(std::move(group)), groups_(groups),
-      y_(k_ * block_size_.size(), 0.0) {
+Strata::Strata(const double* y, std::size_t figures, const std::vector<std::uint32_t>& block_size,
+               const std::vector<std::uint32_t>& group, std::uint32_t groups)
+    : y_(y), k_(figures), block_size_(block_size), group_(group), groups_(groups), n_group_(groups, 0.0),
+      factor_(groups, 0.0), sum_(figures, 0.0), total_(figures, 0.0), group_total_(groups * figures, 0.0) {
   if (group_.size() != block_size_.size()) throw std::invalid_argument("Strata: one group per pixel");
-  for (std::uint32_t g : group_)
+  std::vector<double> members(groups_, 0.0);
+  for (std::size_t i = 0; i < pixels(); ++i) {  // one pass, row by row
+    const std::uint32_t g = group_[i];
     if (g >= groups_) throw std::invalid_argument("Strata: group out of range");
-}
-
-double Strata::sample_sum(std::size_t k) const {
-  double s = 0;
-  for (std::size_t i = 0; i < pixels(); ++i) s += at(i, k);
-  return s;
-}
-
-double Strata::total(std::size_t k) const {
-  double s = 0;
-  for (std::size_t i = 0; i < pixels(); ++i) s += block_size_[i] * at(i, k);
-  return s;
-}
-
-const std::vector<double>& Strata::deviations() const {
-  if (!d_.empty() || y_.empty()) return d_;
-  std::vector<double> tg(groups_ * k_, 0.0), ng(groups_, 0.0), members(groups_, 0.0);
-  for (std::size_t i = 0; i < pixels(); ++i) {
-    const std::uint32_t g = group_[i];
-    ng[g] += block_size_[i];
+    n_group_[g] += block_size_[i];
     members[g] += 1;
-    for (std::size_t k = 0; k < k_; ++k) tg[g * k_ + k] += block_size_[i] * at(i, k);
+    const double* row = y_ + i * k_;
+    double* tg = group_total_.data() + g * k_;
+    for (std::size_t k = 0; k < k_; ++k) {
+      sum_[k] += row[k];
+      total_[k] += block_size_[i] * row[k];
+      tg[k] += block_size_[i] * row[k];
+    }
   }
-  d_.assign(y_.size(), 0.0);
-  for (std::size_t i = 0; i < pixels(); ++i) {
+  for (std::uint32_t g = 0; g < groups_; ++g)  // a group of one tells nothing of its variance
+    factor_[g] = members[g] > 1 ? std::sqrt(members[g] / (members[g] - 1)) : 0.0;
+  variance_.assign(k_, 0.0);
+  for (std::size_t i = 0; i < pixels(); ++i) {  // every figure's variance, one more pass
     const std::uint32_t g = group_[i];
-    if (members[g] < 2) continue;  // a group of one tells nothing of its variance
-    const double share = block_size_[i] / ng[g], factor = std::sqrt(members[g] / (members[g] - 1));
-    for (std::size_t k = 0; k < k_; ++k) d_[i * k_ + k] = factor * (block_size_[i] * at(i, k) - share * tg[g * k_ + k]);
+    if (factor_[g] == 0) continue;
+    const double share = block_size_[i] / n_group_[g];
+    const double* row = y_ + i * k_;
+    const double* tg = group_total_.data() + g * k_;
+    for (std::size_t k = 0; k < k_; ++k) {
+      const double d = factor_[g] * (block_size_[i] * row[k] - share * tg[k]);
+      variance_[k] += d * d;
+    }
   }
-  return d_;
 }
 
-double Strata::variance(std::size_t k) const {
-  const std::vector<double>& d = deviations();
-  double v = 0;
-  for (std::size_t i = 0; i < d.size(); i += k_) v += d[i + k] * d[i + k];
-  return v;
+template <typename Value, typename GroupTotal>
+std::vector<double> Strata::deviations(Value&& value, GroupTotal&& group_total) const {
+  std::vector<double> d(pixels());
+  for (std::size_t i = 0; i < pixels(); ++i) {
+    const std::uint32_t g = group_[i];
+    if (factor_[g] != 0) d[i] = factor_[g] * (block_size_[i] * value(i) - block_size_[i] / n_group_[g] * group_total(g));
+  }
+  return d;
 }
+
+std::vector<double> Strata::figure_deviations(std::size_t k) const {
+  return deviations([&](std::size_t i) { return at(i, k); }, [&](std::uint32_t g) { return group_total_[g * k_ + k]; });
+}
+
 
 std::vector<double> Strata::covariance(const std::vector<std::size_t>& figs) const {
-  const std::vector<double>& d = deviations();
   const std::size_t m = figs.size();
+  std::vector<std::vector<double>> d;
+  for (std::size_t f : figs) d.push_back(figure_deviations(f));
   std::vector<double> c(m * m, 0.0);
-  for (std::size_t i = 0; i < d.size(); i += k_)
-    for (std::size_t a = 0; a < m; ++a)
-      for (std::size_t b = 0; b <= a; ++b) c[a * m + b] += d[i + figs[a]] * d[i + figs[b]];
   for (std::size_t a = 0; a < m; ++a)
-    for (std::size_t b = 0; b < a; ++b) c[b * m + a] = c[a * m + b];
+    for (std::size_t b = 0; b <= a; ++b) {
+      double s = 0;
+      for (std::size_t i = 0; i < pixels(); ++i) s += d[a][i] * d[b][i];
+      c[a * m + b] = c[b * m + a] = s;
+    }
   return c;
 }
 
 std::vector<double> Strata::covariance_with(const std::vector<double>& w, const std::vector<std::size_t>& figs) const {
   if (w.size() != k_) throw std::invalid_argument("Strata::covariance_with: one weight per figure");
-  const std::vector<double>& d = deviations();
   std::vector<std::size_t> used;  // the figures with a weight
   for (std::size_t k = 0; k < k_; ++k)
     if (w[k] != 0) used.push_back(k);
+  const auto combined = [&](const double* row) {
+    double s = 0;
+    for (std::size_t k : used) s += w[k] * row[k];
+    return s;
+  };
+  const std::vector<double> lin = deviations([&](std::size_t i) { return combined(y_ + i * k_); },
+                                             [&](std::uint32_t g) { return combined(group_total_.data() + g * k_); });
   std::vector<double> c(figs.size() + 1, 0.0);
-  for (std::size_t i = 0; i < d.size(); i += k_) {
-    double lin = 0;
-    for (std::size_t k : used) lin += w[k] * d[i + k];
-    for (std::size_t a = 0; a < figs.size(); ++a) c[a] += lin * d[i + figs[a]];
-    c.back() += lin * lin;
+  for (std::size_t a = 0; a < figs.size(); ++a) {
+    const std::vector<double> d = figure_deviations(figs[a]);
+    for (std::size_t i = 0; i < pixels(); ++i) c[a] += lin[i] * d[i];
   }
+  for (double x : lin) c.back() += x * x;
   return c;
+}
+
+double Strata::series_total(const std::vector<double>& v) const {
+  double s = 0;
+  for (std::size_t i = 0; i < pixels(); ++i) s += block_size_[i] * v[i];
+  return s;
+}
+
+double Strata::series_variance(const std::vector<double>& v) const {
+  std::vector<double> tg(groups_, 0.0);
+  for (std::size_t i = 0; i < pixels(); ++i) tg[group_[i]] += block_size_[i] * v[i];
+  double s = 0;
+  for (double x : deviations([&](std::size_t i) { return v[i]; }, [&](std::uint32_t g) { return tg[g]; })) s += x * x;
+  return s;
 }
 
 namespace {

@@ -60,10 +60,10 @@ TEST_CASE("sample: each pixel of a block equally likely over seeds; the same see
 }
 
 TEST_CASE("strata: Horvitz-Thompson totals and collapsed-strata variances by hand", "[sample][strata]") {
-  // Four pixels in two groups; blocks of 4 pixels except the last (2).
-  sample::Strata s(2, {4, 4, 4, 2}, {0, 0, 1, 1}, 2);
-  const double y0[] = {1, 3, 5, 5}, y1[] = {2, 2, 2, 2};
-  for (std::size_t i = 0; i < 4; ++i) s.at(i, 0) = y0[i], s.at(i, 1) = y1[i];
+  // Four pixels in two groups; blocks of 4 pixels except the last (2); figure 0 varies, 1 does not.
+  const std::vector<double> y = {1, 2, 3, 2, 5, 2, 5, 2};
+  const std::vector<std::uint32_t> size = {4, 4, 4, 2}, group = {0, 0, 1, 1};
+  const sample::Strata s(y.data(), 2, size, group, 2);
   CHECK(s.total(0) == 4 + 12 + 20 + 10);
   CHECK(s.sample_sum(0) == 14);
   // Group 0: T = 4, 12 (N 8): deviations 4 - 8 = -4, 12 - 8 = 4, factor 2: 2 x 32 = 64.
@@ -77,6 +77,8 @@ TEST_CASE("strata: Horvitz-Thompson totals and collapsed-strata variances by han
   const auto w = s.covariance_with({2, 0}, {0});  // 2 x figure 0
   CHECK(w[0] == Approx(128));
   CHECK(w[1] == Approx(256));
+  CHECK(s.series_total({1, 3, 5, 5}) == s.total(0));
+  CHECK(s.series_variance({1, 3, 5, 5}) == Approx(64));
 }
 
 TEST_CASE("strata: the bootstrap's bias of a maximum: none for one total far above, 0.56 sd for two equal ones",
