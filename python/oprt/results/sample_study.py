@@ -184,45 +184,87 @@ def summary(rows, fractions):
     return "\n".join(lines)
 
 
+def category(case):
+    """The study's kinds of case, for the plots."""
+    for key, name in (("paper", "paper, brute"), ("pipelined", "pipelined"), ("fifo", "FIFOs, ideal bus"),
+                      ("contended", "contended"), ("16K", "ideal, caches")):
+        if key in case:
+            return name
+    return "ideal"
+
+
 def plots(rows, fractions, folder):
-    """Error against fraction (every run a point), and each run's 1/16 interval against the truth."""
+    """Error against fraction (trusted and flagged runs side by side), the error by kind of case
+    at 1/16, and each 1/16 run's interval against the full run."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     os.makedirs(folder, exist_ok=True)
     fig, ax = plt.subplots(figsize=(7, 4))
     for i, n in enumerate(fractions):
-        r = [x for x in rows if x["fraction"] == f"1/{n}"]
-        ys = [100 * x["makespan_cycles_error"] for x in r]
-        ax.scatter([i + (j % 7 - 3) * 0.03 for j in range(len(ys))], ys, s=6,
-                   c=["tab:blue" if x["trusted"] else "tab:red" for x in r])
+        for trusted, dx, colour in ((True, -0.15, "tab:blue"), (False, 0.15, "tab:red")):
+            ys = [100 * x["makespan_cycles_error"] for x in rows if x["fraction"] == f"1/{n}" and x["trusted"] == trusted]
+            ax.scatter([i + dx + (j % 9 - 4) * 0.015 for j in range(len(ys))], ys, s=5, c=colour,
+                       label=("trusted" if trusted else "flagged") if i == 0 else None)
     ax.set_xticks(range(len(fractions)), [f"1/{n}" for n in fractions])
+    ax.set_yscale("symlog", linthresh=5)
     ax.axhline(0, color="grey", lw=0.5)
-    ax.set_ylabel("frame time error (%)")
-    ax.set_title("Sampled estimate against the full run (blue: trusted, red: flagged)")
+    ax.set_ylabel("frame time error (%, symlog)")
+    ax.set_title("Sampled estimate against the same level's full run")
+    ax.legend()
     fig.tight_layout()
     fig.savefig(os.path.join(folder, "error_by_fraction.png"), dpi=120)
     plt.close(fig)
     r = [x for x in rows if x["fraction"] == "1/16"]
-    fig, ax = plt.subplots(figsize=(7, max(3, 0.12 * len(r))))
+    kinds = list(dict.fromkeys(category(x["case"]) for x in r))
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.boxplot([[100 * x["makespan_cycles_error"] for x in r if category(x["case"]) == k] for k in kinds], labels=kinds)
+    ax.axhline(0, color="grey", lw=0.5)
+    ax.set_ylabel("frame time error at 1/16 (%)")
+    ax.set_title("Error by kind of case (1/16)")
+    plt.setp(ax.get_xticklabels(), rotation=20)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "error_by_kind_1_16.png"), dpi=120)
+    plt.close(fig)
+    r.sort(key=lambda x: (not x["trusted"], x["makespan_cycles_error"]))
+    fig, ax = plt.subplots(figsize=(7, max(3, 0.02 * len(r))))
     for j, x in enumerate(r):
         e, h = 100 * x["makespan_cycles_error"], 100 * x["makespan_cycles_halfwidth"]
-        ax.errorbar(e, j, xerr=h, fmt="o", ms=2, color="tab:blue" if x["makespan_cycles_covered"] else "tab:red", lw=0.6)
+        ax.errorbar(e, j, xerr=h, fmt="o", ms=1.5, lw=0.5,
+                    color=("tab:blue" if x["trusted"] else "tab:orange") if x["makespan_cycles_covered"] else "tab:red")
     ax.axvline(0, color="grey", lw=0.5)
     ax.set_xlabel("estimate and its 95 % interval, relative to the full run (%)")
     ax.set_yticks([])
-    ax.set_title("1/16: intervals (red: the full run outside)")
+    ax.set_title("1/16: trusted (blue, below) and flagged (orange) runs; red: the full run outside")
     fig.tight_layout()
     fig.savefig(os.path.join(folder, "intervals_1_16.png"), dpi=120)
     plt.close(fig)
 
 
+def replot(folder, plots_folder, fractions):
+    """The tables and plots again from a finished study's runs.csv."""
+    with open(os.path.join(folder, "runs.csv")) as f:
+        rows = list(csv.DictReader(f))
+    for x in rows:
+        for k, v in list(x.items()):
+            if k.endswith(("_error", "_halfwidth", "wall_s")) and v != "":
+                x[k] = float(v)
+            elif k.endswith("_covered") or k == "trusted":
+                x[k] = v == "True"
+    print(summary(rows, fractions))
+    plots(rows, fractions, plots_folder)
+
+
 def main(argv=None):
     ap = script_arguments(__doc__, "sample_study", fractions="4,16,64", seeds="5", level="analytic",
                           blocks="design,paper,fifo", plots=os.path.join(paths.REPO, "docs", "plots", "sample"))
+    ap.add_argument("--replot", action="store_true", help="tables and plots again from --out's runs.csv")
     a = ap.parse_args(argv)
     a.fractions = [int(x) for x in a.fractions.split(",")]
     a.seeds = int(a.seeds)
+    if a.replot:
+        replot(a.out, a.plots, a.fractions)
+        return 0
     cases = [c for b in a.blocks.split(",") for c in BLOCKS[b](os.path.join(a.out, "arch"))]
     os.makedirs(a.out, exist_ok=True)
     rows = []
