@@ -152,24 +152,27 @@ def percent(x):
 
 
 def summary(rows, fractions):
-    """The tables: per fraction the median and worst |error| of each figure, the coverage of the
-    frame time's interval, the median speed-up; then per case at 1/16."""
+    """The tables: per fraction (every run, the trusted ones, the flagged ones) the median and
+    worst |error| of each figure, the coverage of the frame time's interval, the median speed-up;
+    then per case at 1/16."""
     lines = ["| fraction | runs | frame time median | worst | coverage | energy median | worst | busiest unit median |"
-             " bus bytes median | speed-up median |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             " bus bytes median | speed-up median |", "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for n in fractions:
-        r = [x for x in rows if x["fraction"] == f"1/{n}"]
-        if not r:
-            continue
-        ft = [abs(x["makespan_cycles_error"]) for x in r]
-        en = [abs(x["energy_j_error"]) for x in r if "energy_j_error" in x]
-        busy = [abs(x["busy_cycles_max_error"]) for x in r]
-        bus = [abs(x["bus_bytes_error"]) for x in r if "bus_bytes_error" in x]
-        cover = sum(1 for x in r if x["makespan_cycles_covered"]) / len(r)
-        speed = [x["full_wall_s"] / x["wall_s"] for x in r]
-        lines.append(f"| 1/{n} | {len(r)} | {percent(statistics.median(ft))} | {percent(max(ft))} | {percent(cover)} | "
-                     f"{percent(statistics.median(en)) if en else '-'} | {percent(max(en)) if en else '-'} | "
-                     f"{percent(statistics.median(busy))} | {percent(statistics.median(bus)) if bus else '-'} | "
-                     f"{statistics.median(speed):.1f}x |")
+        for which, keep in (("", lambda x: True), (" trusted", lambda x: x["trusted"]),
+                            (" flagged", lambda x: not x["trusted"])):
+            r = [x for x in rows if x["fraction"] == f"1/{n}" and keep(x)]
+            if not r:
+                continue
+            ft = [abs(x["makespan_cycles_error"]) for x in r]
+            en = [abs(x["energy_j_error"]) for x in r if x.get("energy_j_error", "") != ""]
+            busy = [abs(x["busy_cycles_max_error"]) for x in r]
+            bus = [abs(x["bus_bytes_error"]) for x in r if x.get("bus_bytes_error", "") != ""]
+            cover = sum(1 for x in r if x["makespan_cycles_covered"]) / len(r)
+            speed = [x["full_wall_s"] / x["wall_s"] for x in r]
+            lines.append(f"| 1/{n}{which} | {len(r)} | {percent(statistics.median(ft))} | {percent(max(ft))} | "
+                         f"{percent(cover)} | {percent(statistics.median(en)) if en else '-'} | "
+                         f"{percent(max(en)) if en else '-'} | {percent(statistics.median(busy))} | "
+                         f"{percent(statistics.median(bus)) if bus else '-'} | {statistics.median(speed):.1f}x |")
     lines += ["", "| case (1/16) | frame time error (seeds) | covered | energy error median | trusted |", "|---|---|---:|---:|---|"]
     for case in dict.fromkeys(x["case"] for x in rows):
         r = [x for x in rows if x["case"] == case and x["fraction"] == "1/16"]
