@@ -5,7 +5,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(OPRT_LIBRARIES oprt_base oprt_geom oprt_scene oprt_arch oprt_balance oprt_ref oprt_timing oprt_analytic oprt_cost oprt_trace oprt_hw)
+set(OPRT_LIBRARIES oprt_base oprt_sample oprt_geom oprt_scene oprt_arch oprt_balance oprt_ref oprt_timing oprt_analytic oprt_cost oprt_trace oprt_hw)
 foreach(lib IN LISTS OPRT_LIBRARIES)
   string(REPLACE "oprt_" "" name ${lib})
   set_target_properties(${lib} PROPERTIES EXPORT_NAME ${name})

@@ -45,13 +45,28 @@ FrameStats frame_stats(const timing::FrameRun& run, const RenderJob& job, const 
     fs.units.push_back(std::move(us));
   }
   if (job.cost) fs.energy = job.cost->frame(fs);
+  if (job.estimator && run.sample) fs.sample = job.estimator->estimate(run, fs);
   return fs;
 }
+
+namespace {
+// --sample: the sample and the full frame's estimates with their 95 % intervals.
+void print_sample_line(const FrameStats& fs) {
+  const SampleEstimate& e = *fs.sample;
+  std::printf("           sample %s (%llu of %llu pixels): estimate makespan %.4g cycles [%.4g, %.4g]  frame time %.4g s",
+              e.json["fraction_text"].get<std::string>().c_str(), e.json["pixels"].get<unsigned long long>(),
+              e.json["frame_pixels"].get<unsigned long long>(), e.makespan, e.makespan_interval[0],
+              e.makespan_interval[1], e.frame_time_s);
+  if (e.energy) std::printf("  energy %.4g J [%.4g, %.4g]", *e.energy, e.energy_interval[0], e.energy_interval[1]);
+  std::printf("%s\n", e.trusted ? "" : "  (not trusted: see the warning)");
+}
+}  // namespace
 
 void finish_frame(RenderJob& job, StatsWriter* stats, const FrameStats& fs, FrameImage&& image) {
   if (job.write_files) {
     const auto dir = std::filesystem::path(job.out_dir);
-    write_frame_files((dir / frame_name(fs.frame, "exr")).string(), (dir / frame_name(fs.frame, "png")).string(), image);
+    write_frame_files((dir / frame_name(fs.frame, "exr")).string(), (dir / frame_name(fs.frame, "png")).string(), image,
+                      job.sample != nullptr);
     if (job.cost) stats->set_area(job.cost->area());
     stats->add(fs);
     if (job.progress) std::fprintf(stderr, "\r\033[K");
@@ -59,6 +74,7 @@ void finish_frame(RenderJob& job, StatsWriter* stats, const FrameStats& fs, Fram
                 static_cast<unsigned long long>(fs.makespan), fs.efficiency(),
                 static_cast<unsigned long long>(fs.total_rays()), fs.wall_s,
                 static_cast<double>(fs.total_rays()) / std::max(fs.wall_s, 1e-9));
+    if (fs.sample) print_sample_line(fs);
     std::fflush(stdout);
   }
   if (job.keep_results) {

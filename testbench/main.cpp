@@ -236,6 +236,15 @@ void CommandLine::add_render() {
   render->add_option("--iu", ro.iu, "serial | pipelined: the intersection unit's microarchitecture")
       ->check(CLI::IsMember({"serial", "pipelined"}));
   render->add_option("--tech", ro.tech, "technology table for area and energy (default: the built-in testbench/tech/65nm.json)");
+  render->add_option("--sample", ro.sample,
+                     "1/N (1/4, 1/16, 1/64; or 0.0625): trace one pixel in each block of N and estimate the full "
+                     "frame's figures with 95 % intervals (stats.json \"sample\"); 1: every pixel");
+  numbers.count(render, "--seed", 0, ~std::uint64_t{0}, "which pixel of each block --sample traces (default 0)",
+                [this](std::uint64_t n) { ro.seed = n; });
+  render->add_option("--sample-fifos", ro.sample_fifos,
+                     "scaled | kept: --sample times ray FIFOs that hold the same stretch of the screen as the full "
+                     "frame's (default), or the architecture's")
+      ->check(CLI::IsMember({"scaled", "kept"}));
   add_render_outputs();
 }
 

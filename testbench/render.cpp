@@ -250,6 +250,13 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared&
                                 {"aff_sphere_segments", load.aff.sphere_segments},
                                 {"aff_sphere_rings", load.aff.sphere_rings},
                                 {"aff_cone_segments", load.aff.cone_segments}};
+  // --sample: the engine times the sample with its FIFOs scaled (or kept); the estimator reads it.
+  job.engine_arch = job.arch;
+  if (job.sample) {
+    if (o.sample_fifos.value_or("scaled") == "scaled")
+      job.engine_arch.fifo_depth = sampled_fifo_depth(job.arch.fifo_depth, *job.sample);
+    job.estimator = std::make_shared<SampleEstimator>(job.arch, job.sample, job.engine_arch.fifo_depth, *job.cost);
+  }
   if (job.arch.level == Level::analytic) {  // no SystemC at all
     simulate<T>(job, geometry);
     return 0;
@@ -279,6 +286,16 @@ int render(const RenderOptions& o, const Scene& scene, RenderJob& job, Prepared&
   return rc;
 }
 
+// --sample's N (1: every pixel), and the options that only make sense with it.
+std::uint32_t sample_fraction(const RenderOptions& o) {
+  if (!o.sample) {
+    if (o.seed) throw InputError("--seed", std::to_string(*o.seed), "chooses the pixels of --sample, which is not given");
+    if (o.sample_fifos) throw InputError("--sample-fifos", *o.sample_fifos, "applies to --sample, which is not given");
+    return 1;
+  }
+  return parse_sample_fraction(*o.sample, "--sample");
+}
+
 }  // namespace
 
 int run_render(const RenderOptions& o) { return run_render(o, nullptr); }
@@ -297,6 +314,7 @@ int run_render(const RenderOptions& o, RenderCache* cache) {
   if (o.trace_buffer && o.vcd.empty())
     throw InputError("--trace-buffer", std::to_string(*o.trace_buffer),
                      "sizes the --vcd writer's buffer, and --vcd is not given");
+  const std::uint32_t sample_n = sample_fraction(o);
 
   if (!o.tech.empty()) (void)load_tech(o.tech);  // its errors before anything else is read
 
@@ -342,6 +360,7 @@ int run_render(const RenderOptions& o, RenderCache* cache) {
   job.width = scene.width;
   job.height = scene.height;
   parse_resolution(o.resolution, job.width, job.height);
+  if (sample_n > 1) job.sample = std::make_shared<const PixelSample>(job.width, job.height, sample_n, o.seed.value_or(0));
   job.frames = parse_frames(o.frames, scene);
   check_motions(scene, job.frames.first, job.frames.last);
   job.out_dir = o.out;

@@ -21,6 +21,8 @@ struct RenderOptions {
   std::optional<std::string> max_memory;    // --max-memory: a byte count
   std::optional<int> ius, subdivide, depth;
   std::optional<std::string> level, quantum, balance, locality, replicate, accel, top, route, kernel, precision, sram, iu;
+  std::optional<std::string> sample, sample_fifos;  // --sample 1/N, --sample-fifos scaled | kept
+  std::optional<std::uint64_t> seed;                // --seed: which pixel of each block
   std::string tech;  // technology table; empty: the built-in 65 nm one
   bool progress = true;  // on a terminal only
   bool check = false;    // --check: every check a render makes, then stop (scripts/sweep)

@@ -7,6 +7,7 @@
 #include "balance/assign.h"
 #include "options.h"
 #include "run_cost.h"
+#include "sample_estimate.h"
 #include "stats.h"
 #include "trace/vcd_writer.h"
 #include "trace_select.h"
@@ -21,6 +22,7 @@ namespace oprt {
 struct RenderJob {
   const Scene* scene = nullptr;
   Arch arch;
+  Arch engine_arch;  // what the engine times: `arch`, with --sample its ray FIFOs scaled (sample_estimate.h)
   FrameRange frames;
   int width = 0, height = 0;
   std::string out_dir, vcd_path, timeline_path;
@@ -30,6 +32,8 @@ struct RenderJob {
   bool progress = false;
   nlohmann::json header;  // resolved configuration, for stats.json
   std::shared_ptr<RunCost> cost;  // area and energy (a technology table)
+  std::shared_ptr<const PixelSample> sample;    // --sample: the pixels each frame traces (null: every one)
+  std::shared_ptr<SampleEstimator> estimator;   // --sample: the full frame's figures from the sample's
   int completed = 0;      // frames written
   std::exception_ptr error;  // what stopped the simulation thread, if anything
   bool write_files = true;   // frames and stats into out_dir

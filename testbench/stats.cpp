@@ -174,6 +174,7 @@ nlohmann::json to_json(const FrameStats& f) {
     for (const Replica& r : f.replicas) copies.push_back({{"sphere", r.sphere}, {"units", r.units}});
     j["replicas"] = {{"copies", copies}, {"bytes", f.replica_bytes}, {"geometry_bytes", f.geometry_bytes}};
   }
+  if (f.sample) j["sample"] = f.sample->json;
   if (f.energy) {
     j["energy_j"] = f.energy->to_json();
     if (!f.energy->notes.empty()) j["energy_notes"] = f.energy->notes;
@@ -210,7 +211,10 @@ void StatsWriter::add(const FrameStats& f) {
     // column positions stay.
     csv_ << "frame,iu,spheres,primitives,rays,sphere,transform,primitive,idle,stall,busy,makespan,parallel_efficiency,"
             "box,node,frame_time_s,energy_j,area_mm2,fanout_mean,fanout_max,fanout_histogram,route_cycles,route_skipped,"
-            "bus_bytes_per_ray\n";
+            "bus_bytes_per_ray";
+    // --sample: the row's figures are the sample's; the estimates of the full frame follow.
+    if (f.sample) csv_ << ",est_busy,est_makespan,est_frame_time_s,est_energy_j";
+    csv_ << "\n";
   }
   const std::uint64_t rays = f.total_rays();
   for (const UnitFrameStats& u : f.units) {
@@ -224,7 +228,13 @@ void StatsWriter::add(const FrameStats& f) {
     csv_ << ',' << f.fanout_mean() << ',' << f.fanout_max() << ',';
     for (std::size_t k = 0; k < f.route.fanout.size(); ++k) csv_ << (k ? " " : "") << f.route.fanout[k];
     csv_ << ',' << f.route.cycles << ',' << f.route.skipped << ','
-         << (rays ? static_cast<double>(f.bus_bytes) / static_cast<double>(rays) : 0.0) << '\n';
+         << (rays ? static_cast<double>(f.bus_bytes) / static_cast<double>(rays) : 0.0);
+    if (f.sample) {
+      csv_ << ',' << f.sample->json["estimate"]["busy_cycles_per_unit"].at(static_cast<std::size_t>(u.id)).get<double>()
+           << ',' << f.sample->makespan << ',' << f.sample->frame_time_s << ',';
+      if (f.sample->energy) csv_ << *f.sample->energy;
+    }
+    csv_ << '\n';
   }
   csv_.flush();
   if (!csv_) throw std::runtime_error("cannot write " + csv_tmp_);
@@ -242,6 +252,28 @@ void StatsWriter::add(const FrameStats& f) {
   load_bytes_ += f.memory_load_bytes;
   load_cycles_ += f.memory_load_cycles;
   refit_cycles_ += f.refit_cycles;
+  if (f.sample) add_sample(*f.sample);
+}
+
+// The run's estimates: the frames' sums, their intervals the sums of the frames' bounds (the
+// frames share their pixels, so their errors are not independent: this bound is safe).
+void StatsWriter::add_sample(const SampleEstimate& e) {
+  nlohmann::json& s = sample_;
+  if (s.is_null()) {
+    s = {{"fraction", e.json["fraction"]}, {"fraction_text", e.json["fraction_text"]}, {"seed", e.json["seed"]},
+         {"confidence", e.json["confidence"]}, {"trusted", true}};
+    s["estimate"] = {{"makespan_cycles_total", 0.0}, {"frame_time_s_total", 0.0}};
+    s["interval"] = {{"makespan_cycles_total", {0.0, 0.0}}, {"frame_time_s_total", {0.0, 0.0}}};
+    if (e.energy) s["estimate"]["energy_j_total"] = 0.0, s["interval"]["energy_j_total"] = {0.0, 0.0};
+  }
+  const auto add = [&](const char* key, double v, const std::array<double, 2>& i) {
+    s["estimate"][key] = s["estimate"][key].get<double>() + v;
+    s["interval"][key] = {s["interval"][key][0].get<double>() + i[0], s["interval"][key][1].get<double>() + i[1]};
+  };
+  add("makespan_cycles_total", e.makespan, e.makespan_interval);
+  add("frame_time_s_total", e.frame_time_s, e.frame_time_interval);
+  if (e.energy && s["estimate"].contains("energy_j_total")) add("energy_j_total", *e.energy, e.energy_interval);
+  s["trusted"] = s["trusted"].get<bool>() && e.trusted;
 }
 
 void StatsWriter::finish() {
@@ -261,6 +293,7 @@ void StatsWriter::finish() {
                     {"rays_per_wall_s", wall_ > 0 ? rays_ / wall_ : 0},
                     {"frame_time_s_total", frame_time_}};
   if (energy_known_) doc["summary"]["energy_j_total"] = energy_;
+  if (!sample_.is_null()) doc["summary"]["sample"] = sample_;
   json_.write(doc);
   csv_.close();  // a failed flush (disk full) must not be renamed into place
   if (!csv_) throw std::runtime_error("cannot write " + csv_tmp_);

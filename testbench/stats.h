@@ -39,6 +39,18 @@ struct UnitFrameStats : timing::UnitRun {
   std::uint64_t busy_cycles() const { return pipeline ? pipeline->occupied : cycles.busy(); }
 };
 
+// --sample: the full frame's figures estimated from the sample's (sample_estimate.h), each
+// with its 95 % interval; the frame's other figures stay the sample's own.
+struct SampleEstimate {
+  double makespan = 0, frame_time_s = 0;
+  std::array<double, 2> makespan_interval{}, frame_time_interval{};
+  std::optional<double> energy;
+  std::array<double, 2> energy_interval{};
+  bool trusted = true;
+  std::vector<std::string> flags;
+  nlohmann::json json;  // the frame's "sample" in stats.json
+};
+
 // A frame's figures (timing/unit_run.h FrameFigures), and what the run adds.
 struct FrameStats : timing::FrameFigures {
   int frame = 0;
@@ -55,6 +67,7 @@ struct FrameStats : timing::FrameFigures {
   std::optional<Cost> energy;   // with a technology table (--tech)
   // Pipelined units: per stage its initiation interval and latency (the same for every unit).
   std::optional<timing::PipelineConfig> pipeline;
+  std::optional<SampleEstimate> sample;  // --sample
 
   std::uint64_t busy() const;
   double fanout_mean() const;
@@ -96,6 +109,8 @@ class StatsWriter {
   std::uint64_t makespan_ = 0, rays_ = 0, busy_ = 0, load_bytes_ = 0, load_cycles_ = 0, refit_cycles_ = 0;
   bool energy_known_ = false;
   bool finished_ = false;
+  nlohmann::json sample_;  // --sample: the summary's estimates
+  void add_sample(const SampleEstimate& e);
 };
 
 nlohmann::json to_json(const FrameStats& f);

@@ -28,7 +28,14 @@ timing::FrameCommand frame_command(const RenderJob& job, int f, FrameImage& imag
   cmd.width = job.width;
   cmd.height = job.height;
   cmd.image = &image;
+  cmd.sample = job.sample.get();
   return cmd;
+}
+
+// What the balance policy reads of a frame: with --sample, expanded to the full frame.
+MeasuredFrame measured(const timing::FrameRun& run, const RenderJob& job) {
+  const MeasuredFrame m = timing::measured_frame(run, job.arch);
+  return job.estimator ? job.estimator->expanded(m) : m;
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -42,13 +49,13 @@ class Testbench : public sc_module {
   Testbench(const sc_module_name& name, RenderJob& job, SceneGeometry<T>& geometry)
       : sc_module(name), job_(job), geometry_(geometry) {
     open_traces();
-    engine_ = std::make_unique<hw::Engine<T>>("engine", *job.scene, geometry, job.arch, job.assignment.units(),
+    engine_ = std::make_unique<hw::Engine<T>>("engine", *job.scene, geometry, job.engine_arch, job.assignment.units(),
                                               vcd_.get(), timeline_.get());
     engine_->assign(job.assignment);
     // memory.dram.path "external": the engine's memory port gets oprt's own DRAM model, with
     // the figures of "channel" (the same channels, latency and rate; tests/golden).
     if (engine_->memory_port_used()) {
-      memory_ = std::make_unique<hw::Dram>("dram", job.arch, job.assignment.units(), hw::addr::dram_base);
+      memory_ = std::make_unique<hw::Dram>("dram", job.engine_arch, job.assignment.units(), hw::addr::dram_base);
       engine_->mem.bind(memory_->in);
     }
     policy_ = std::make_unique<PolicyDriver>(*job.scene, policy_inputs(*job.scene, geometry, job.arch), job.arch,
@@ -84,14 +91,15 @@ class Testbench : public sc_module {
         set_up = true;
       }
       FrameImage image(job_.width, job_.height);
+      if (job_.sample) mark_not_traced(image, job_.sample->pixels());  // the GPP writes the pixels it traces
       timing::FrameCommand cmd = frame_command(job_, f, image);
       const TraceSelection& sel = job_.trace;
       if (sel.frames && f == sel.frames->first)
         set_trace_window(std::max<std::uint64_t>(sel.from_ps, sc_time_stamp().value()), sel.to_ps);
       engine_->run_frame(cmd);
       const timing::FrameRun run = engine_->figures();
-      previous_ = timing::measured_frame(run, job_.arch);
       const FrameStats fs = frame_stats(run, job_, geometry_, f, seconds_since(t0), image);
+      previous_ = measured(run, job_);  // after the estimate: it knows the frame's expansion
       finish_frame(job_, stats_.get(), fs, std::move(image));
       last_frame_end_ = sc_time_stamp().value();
       if (vcd_) vcd_->flush_before(last_frame_end_);
@@ -204,7 +212,7 @@ class Testbench : public sc_module {
 template <typename T>
 void run_analytic(RenderJob& job, SceneGeometry<T>& geometry) {
   const bool deforming = has_deforming(*job.scene);
-  analytic::AnalyticEngine<T> engine(*job.scene, geometry, job.arch);
+  analytic::AnalyticEngine<T> engine(*job.scene, geometry, job.engine_arch);
   PolicyDriver policy(*job.scene, policy_inputs(*job.scene, geometry, job.arch), job.arch, job.assignment, job.width,
                       job.height);
   std::unique_ptr<StatsWriter> stats;
@@ -220,8 +228,8 @@ void run_analytic(RenderJob& job, SceneGeometry<T>& geometry) {
     if (f == job.frames.first) engine.setup();
     FrameImage image(job.width, job.height);
     const timing::FrameRun run = engine.run_frame(frame_command(job, f, image));
-    previous = timing::measured_frame(run, job.arch);
     const FrameStats fs = frame_stats(run, job, geometry, f, seconds_since(t0), image);
+    previous = measured(run, job);  // after the estimate: it knows the frame's expansion
     finish_frame(job, stats.get(), fs, std::move(image));
   }
   if (stats) stats->finish();

@@ -50,6 +50,7 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
     timed[l.unit].memory_load_bytes += l.bytes;
   };
   const auto& config = start_frame(plan_, cmd, gpp);
+  out.start_cycles = gpp.now();
   out.refit_nodes = config.refit_nodes;
   out.refit_cycles = config.refit_cycles;
   out.built_nodes = config.built_nodes;
@@ -75,6 +76,8 @@ FrameRun AnalyticEngine<T>::run_frame(const FrameCommand& cmd) {
   ray_figures(frame_, arch_, units, gpp.waiting(), [](std::uint64_t c) { return c; }, out.ray_figures);
   *cmd.image = frame_.image;
   report_work(frame_, out);
+  if (frame_.sample)
+    out.sample = timing::sample_figures(frame_, arch_, units, [&](std::size_t entered) { return plan_.route_cycles(entered); });
   unit_figures(out, timed, fifos, iu);
   return out;
 }

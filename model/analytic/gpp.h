@@ -35,6 +35,7 @@ class AnalyticGpp final : public AnswerSink {
   void connect(const FunctionalFrame<T>& f, AnalyticFifos& fifos, AnalyticUnits<T>& units, AnalyticDram* dram);
   // The GPP's work in its order until every ray has retired; returns the frame's makespan.
   Cycles run();
+  Cycles now() const { return g_; }  // the GPP's time
   const Waiting<Cycles>& waiting() const { return work_->waiting(); }
 
   // The recipe's clock (timing/gpp_clock.h), called by its steps only (timing/gpp_recipe.h).

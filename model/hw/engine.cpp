@@ -102,6 +102,7 @@ timing::FrameRun Engine<T>::figures() {
   timing::FrameRun run;
   static_cast<timing::GppFigures&>(run) = g;
   run.makespan = cycles(g.end - g.start);
+  run.start_cycles = cycles(g.started - g.start);
   run.bus_busy = bus().busy_cycles();
   run.bus_bytes = bus().bytes();
   run.bus_transfers = bus().transfers();
@@ -134,6 +135,8 @@ timing::FrameRun Engine<T>::figures() {
     run.units.push_back(r);
   }
   timing::report_work(frame_, run);
+  if (frame_.sample)
+    run.sample = timing::sample_figures(frame_, arch_, units(), [&](std::size_t entered) { return gpp().plan().route_cycles(entered); });
   return run;
 }
 

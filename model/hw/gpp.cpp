@@ -268,15 +268,16 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
   const RayRecord<T>& rec = frame_.rays[id];
   const Pending& pr = pending_[id];
   FrameImage& img = *cmd.image;
-  const std::uint32_t p = rec.pixel;
+  const std::uint32_t p = rec.pixel;        // its place among the pixels traced
+  const std::uint32_t q = frame_.frame_pixel(p);  // and in the image
   ++retired_;
   if (rec.kind == RayKind::primary) {
     if (progress_ && (++primaries_retired_ & 4095) == 0) progress_(primaries_retired_, pixel_count_);
     rays_left_[p] = frame_.pixel_rays[p + 1] - frame_.pixel_rays[p];
     if (pr.hit.valid()) {
-      img.z[p] = static_cast<float>(pr.hit.t);
-      img.object[p] = pr.hit.object;
-      img.prim[p] = pr.hit.prim;
+      img.z[q] = static_cast<float>(pr.hit.t);
+      img.object[q] = pr.hit.object;
+      img.prim[q] = pr.hit.prim;
     }
   }
   // The merged answers must be the traced nearest hit: the units' answers are the
@@ -286,7 +287,7 @@ void Gpp<T>::retire(std::uint32_t id, const FrameCommand& cmd) {
       (pr.hit.valid() != rec.hit() ||
        (pr.hit.valid() && (pr.hit.object != rec.object || pr.hit.prim != rec.prim || static_cast<float>(pr.hit.t) != rec.t))))
     SC_REPORT_FATAL(name(), ("ray " + std::to_string(id) + ": the units' answers disagree with the functional trace").c_str());
-  if (--rays_left_[p] == 0) finish_pixel(p, img);  // every ray of the pixel's tree is in
+  if (--rays_left_[p] == 0) finish_pixel(q, img);  // every ray of the pixel's tree is in
   trace_in_flight();
 }
 
@@ -327,6 +328,7 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
   // units' trees, the configuration registers (gpp_recipe.h).
   units_ = static_cast<unsigned>(plan_.units());
   const auto& config = start_frame(plan_, cmd, *this);
+  stats_.started = clock_.now();
   stats_.refit_nodes = config.refit_nodes;
   stats_.refit_cycles = config.refit_cycles;
   stats_.built_nodes = config.built_nodes;
@@ -339,7 +341,7 @@ void Gpp<T>::render_frame(const FrameCommand& cmd) {
     wait(abandoned_);  // never notified
   }
 
-  const std::size_t pixels = static_cast<std::size_t>(cmd.width) * cmd.height;
+  const std::size_t pixels = frame_.pixel_rays.size() - 1;  // traced (with --sample, the sample's)
   pending_.assign(frame_.ray_count(), Pending{});
   completed_at_.assign(frame_.ray_count(), SC_ZERO_TIME);
   rays_left_.assign(pixels, 0);

@@ -46,6 +46,7 @@ using timing::FrameCommand, timing::GppFigures, timing::GppPhase, timing::GppPla
 // refit), and the times and counts only this module has.
 struct GppStats : GppFigures {
   sc_core::sc_time start, end;           // the frame's first config write and last retirement
+  sc_core::sc_time started;              // the end of its start: its loads, refit and registers done
   std::uint64_t config_bytes = 0;
   std::uint64_t route_cycles = 0;  // --route: the router's, on the GPP's timeline
   std::vector<std::uint64_t> unit_memory_load_bytes;  // per unit: its share of memory_load_bytes
@@ -67,6 +68,7 @@ class Gpp : public sc_core::sc_module, public Waiter {
   // Spheres per unit, in the units' order; takes effect at the next frame.
   void set_assignment(const std::vector<std::vector<std::uint32_t>>& unit_spheres) { plan_.assign(unit_spheres); }
   const GppStats& stats() const { return stats_; }
+  const GppPlan<T>& plan() const { return plan_; }
   // Called now and then during a frame with (primary rays retired, pixels): for progress bars.
   void on_progress(std::function<void(std::uint64_t, std::uint64_t)> f) { progress_ = std::move(f); }
   std::string waiting_for() const override;

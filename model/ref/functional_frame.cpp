@@ -98,7 +98,10 @@ class Recorder {
     c_.hits_of.assign(regs.size(), 0);
   }
 
-  void begin_ray(const Ray<T>& ray, RayKind kind, std::size_t pixel, int depth) {
+  // The pixel traced next: its place in the frame's order of pixels (the sample's, with --sample).
+  void at_pixel(std::size_t position) { pixel_ = position; }
+  void begin_ray(const Ray<T>& ray, RayKind kind, std::size_t, int depth) {
+    const std::size_t pixel = pixel_;
     kind_ = static_cast<int>(kind);
     slice_ = static_cast<std::uint32_t>(pixel * kWorkSlices / pixels_);
     RayRecord<T> r;
@@ -221,6 +224,7 @@ class Recorder {
   const bool detail_, routed_;
   const std::uint32_t node_bytes_, triangle_bytes_;
   const std::size_t pixels_;
+  std::size_t pixel_ = 0;
   int kind_ = 0;
   std::uint32_t unit_ = 0, slice_ = 0;
   std::uint32_t sphere_tests_ = 0, visits_ = 0, first_visit_ = 0, node_tests_ = 0;
@@ -239,8 +243,11 @@ struct Local {
 // The frame's header: the units' register sizes and costs; the chunks' detail cleared.
 template <typename T>
 void prepare_frame(FunctionalFrame<T>& out, std::vector<Chunk<T>>& chunks, const std::vector<IuRegisters<T>>& units,
-                   const Arch& arch, int width, int height, bool detail, const RouteTable<T>* route) {
+                   const Arch& arch, int width, int height, bool detail, const RouteTable<T>* route,
+                   const PixelSample* sample) {
   out.image = FrameImage(width, height);
+  out.sample = sample;
+  if (sample) mark_not_traced(out.image, sample->pixels());
   out.detailed = detail;
   out.sphere_cost = arch.costs.sphere;
   out.node_cost = arch.costs.node;
@@ -399,12 +406,12 @@ void index_units(FunctionalFrame<T>& out) {
 template <typename T>
 void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const std::vector<IuRegisters<T>>& units,
                       const CameraRays& camera, const Shader<T>& shader, const Arch& arch, int width, int height,
-                      bool detail, const RouteTable<T>* route) {
-  const std::size_t pixels = static_cast<std::size_t>(width) * height;
+                      bool detail, const RouteTable<T>* route, const PixelSample* sample) {
+  const std::size_t pixels = sample ? sample->size() : static_cast<std::size_t>(width) * height;
   const std::size_t spheres = g.sphere_count();
   const std::size_t n_units = units.size();
   std::vector<Chunk<T>> chunks(chunk_count(pixels, kPixelsPerChunk));
-  prepare_frame(out, chunks, units, arch, width, height, detail, route);
+  prepare_frame(out, chunks, units, arch, width, height, detail, route, sample);
   const FrameTraceInputs<T> in{g, units, camera, shader, arch.memory.model == MemoryModel::latency, route};
   tbb::enumerable_thread_specific<Local<T>> locals([&] {
     Local<T> l;
@@ -420,8 +427,11 @@ void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& g, const 
     throw_if_stopped();
     Local<T>& l = locals.local();
     Recorder<T> rec(chunks[c], l.totals, arch, units, detail, out.routed, pixels);
-    for (std::size_t p = begin; p < end; ++p)
-      trace_pixel(in, static_cast<int>(p % width), static_cast<int>(p / width), out.image, rec, l.scratch);
+    for (std::size_t p = begin; p < end; ++p) {
+      const std::size_t q = sample ? sample->pixel(p) : p;  // the frame's pixel
+      rec.at_pixel(p);
+      trace_pixel(in, static_cast<int>(q % width), static_cast<int>(q / width), out.image, rec, l.scratch);
+    }
     chunks[c].shrink();
   });
   sum_totals(out, locals, spheres, n_units);
@@ -439,9 +449,9 @@ template struct FunctionalFrame<float>;
 template struct FunctionalFrame<double>;
 template void trace_functional(FunctionalFrame<float>&, const SceneGeometry<float>&,
                                const std::vector<IuRegisters<float>>&, const CameraRays&, const Shader<float>&,
-                               const Arch&, int, int, bool, const RouteTable<float>*);
+                               const Arch&, int, int, bool, const RouteTable<float>*, const PixelSample*);
 template void trace_functional(FunctionalFrame<double>&, const SceneGeometry<double>&,
                                const std::vector<IuRegisters<double>>&, const CameraRays&, const Shader<double>&,
-                               const Arch&, int, int, bool, const RouteTable<double>*);
+                               const Arch&, int, int, bool, const RouteTable<double>*, const PixelSample*);
 
 }  // namespace oprt

@@ -17,6 +17,7 @@
 #include "ref/bytes.h"
 #include "ref/frame_trace.h"
 #include "ref/route.h"
+#include "sample/pixel_sample.h"
 #include "ref/work.h"
 
 #include <array>
@@ -74,7 +75,11 @@ struct FunctionalFrame {
   // Rays in functional order: per pixel its primary ray, then its shadow rays in light order.
   // A ray's id everywhere in the timed model is its index here.
   std::vector<RayRecord<T>> rays;
-  std::vector<std::uint32_t> pixel_rays;  // pixel p owns rays [pixel_rays[p], pixel_rays[p + 1])
+  // Pixel p (the p-th traced: with --sample, the sample's p-th) owns rays [pixel_rays[p],
+  // pixel_rays[p + 1]); RayRecord::pixel is that p, frame_pixel(p) the frame's pixel.
+  std::vector<std::uint32_t> pixel_rays;
+  const PixelSample* sample = nullptr;    // the pixels traced (sample/pixel_sample.h); null: every one
+  std::uint32_t frame_pixel(std::uint32_t p) const { return sample ? sample->pixel(p) : p; }
   std::vector<UnitTrace<T>> units;
   bool detailed = false;                  // the records' detail was kept
   // The detail, per chunk of kPixelsPerChunk pixels, as the trace wrote it (never copied: a
@@ -183,14 +188,16 @@ struct FunctionalFrame {
   }
 };
 
-// Trace every pixel of the frame for the units' registers (units[u] is unit u's), keeping
-// each record's detail if `detail`, each ray sent to the units `route` chooses (null: every
-// unit). Reuses `out`'s storage from frame to frame. Throws InputError if one unit's work on
-// one ray would exceed 2^32 cycles.
+// Trace every pixel of the frame (or those of `sample`, in its order; the others marked as
+// not traced in the image) for the units' registers (units[u] is unit u's), keeping each
+// record's detail if `detail`, each ray sent to the units `route` chooses (null: every unit).
+// Reuses `out`'s storage from frame to frame. Throws InputError if one unit's work on one
+// ray would exceed 2^32 cycles.
 template <typename T>
 void trace_functional(FunctionalFrame<T>& out, const SceneGeometry<T>& geometry,
                       const std::vector<IuRegisters<T>>& units, const CameraRays& camera, const Shader<T>& shader,
-                      const Arch& arch, int width, int height, bool detail, const RouteTable<T>* route = nullptr);
+                      const Arch& arch, int width, int height, bool detail, const RouteTable<T>* route = nullptr,
+                      const PixelSample* sample = nullptr);
 
 // Calls phase(state, cycles) for each phase of unit u's work on a ray in time order, as the
 // unit performs it: sphere tests (and node tests of its tree), and for each entered sphere
@@ -230,9 +237,10 @@ extern template struct FunctionalFrame<float>;
 extern template struct FunctionalFrame<double>;
 extern template void trace_functional(FunctionalFrame<float>&, const SceneGeometry<float>&,
                                       const std::vector<IuRegisters<float>>&, const CameraRays&, const Shader<float>&,
-                                      const Arch&, int, int, bool, const RouteTable<float>*);
+                                      const Arch&, int, int, bool, const RouteTable<float>*, const PixelSample*);
 extern template void trace_functional(FunctionalFrame<double>&, const SceneGeometry<double>&,
                                       const std::vector<IuRegisters<double>>&, const CameraRays&,
-                                      const Shader<double>&, const Arch&, int, int, bool, const RouteTable<double>*);
+                                      const Shader<double>&, const Arch&, int, int, bool, const RouteTable<double>*,
+                                      const PixelSample*);
 
 }  // namespace oprt

@@ -23,13 +23,20 @@ struct FrameImage {
   bool operator==(const FrameImage& o) const;
 };
 
-void write_exr(const std::string& path, const FrameImage& img);
+// A pixel a sampled run (--sample) did not trace: R = G = B = 0, Z = NaN, objectId = primId =
+// kNotTraced (0xFFFFFFFF stays "no hit").
+constexpr std::uint32_t kNotTraced = 0xFFFFFFFEu;
+// Marks every pixel but `traced` (frame pixel indices) as not traced; the traced keep their values.
+void mark_not_traced(FrameImage& img, const std::vector<std::uint32_t>& traced);
+
+// `sparse`: a sampled frame's (--sample), mostly marks: run-length coded instead of ZIP.
+void write_exr(const std::string& path, const FrameImage& img, bool sparse = false);
 // Throws InputError (naming the file) if it cannot be read or lacks one of the six channels.
 FrameImage read_exr(const std::string& path);
 // sRGB-ish preview: clamp to [0, 1], gamma 2.2.
 void write_png(const std::string& path, const FrameImage& img);
 // The frame's EXR and PNG, written side by side on the pool.
-void write_frame_files(const std::string& exr, const std::string& png, const FrameImage& img);
+void write_frame_files(const std::string& exr, const std::string& png, const FrameImage& img, bool sparse = false);
 
 // Write `path` through `write(tmp)`: the temporary is renamed to `path` only if write
 // returns normally; on an exception it is removed. Throws std::runtime_error on I/O failure.

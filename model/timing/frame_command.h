@@ -5,6 +5,7 @@
 #include "geom/affine.h"
 #include "ref/camera.h"
 #include "ref/image.h"
+#include "sample/pixel_sample.h"
 
 #include <vector>
 
@@ -20,6 +21,7 @@ struct FrameCommand {
   Camera camera;
   int width = 0, height = 0;
   FrameImage* image = nullptr;           // filled in
+  const PixelSample* sample = nullptr;   // --sample: the pixels traced (the others marked); null: every one
 };
 
 }  // namespace oprt::timing

@@ -121,7 +121,7 @@ void GppPlan<T>::trace(FunctionalFrame<T>& out, const FrameCommand& cmd, bool tr
   // schedule each visit's work on their stages.
   const bool detail = traced || any_cached() || arch_.iu.model == IuModel::pipelined;
   trace_functional(out, geom_, registers_, camera, shader, arch_, cmd.width, cmd.height, detail,
-                   routed() ? &route_ : nullptr);
+                   routed() ? &route_ : nullptr, cmd.sample);
 }
 
 template class GppPlan<float>;

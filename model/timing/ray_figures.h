@@ -9,6 +9,7 @@
 #include "arch/arch.h"
 #include "ref/functional_frame.h"
 #include "timing/gpp_recipe.h"
+#include "timing/transfers.h"
 
 #include <array>
 #include <cstdint>
@@ -31,17 +32,48 @@ struct RayFigures {
   std::uint64_t starved = 0;  // cycles the GPP had rays in flight and none it could issue
 };
 
-// The counts (not the times) of frame f on `units` units. A ray's bytes are what the recipe
-// writes for each of its waves (ray_writes, gpp_recipe.h).
+// Ray `id`'s traffic on `units` units: the units it was written to, the bytes of its writes
+// (what the recipe writes for each of its waves: ray_writes, gpp_recipe.h) and of the units'
+// answers, and the cycles they hold a shared bus (transfers.h; none on an ideal bus).
+struct RayTraffic {
+  std::uint64_t writes = 0, ray_bytes = 0, answer_bytes = 0, bus_cycles = 0;
+};
+
 template <typename T>
-void count_ray_figures(const FunctionalFrame<T>& f, const Arch& a, std::size_t units, RayFigures& out) {
+RayTraffic ray_traffic(const FunctionalFrame<T>& f, const Arch& a, std::size_t units, std::uint32_t id) {
   struct Wave {
     const std::uint32_t *first = nullptr, *last = nullptr;  // null: every unit (broadcast)
   };
-  const auto bytes_of = [&](const Wave& w) {
+  const bool shared = a.bus.model == BusModel::shared;
+  RayTraffic t;
+  const auto wave = [&](const Wave& w) {
     const RayWrites writes = ray_writes<T>(a, units, w);
-    return writes.transfers * writes.bytes;
+    t.ray_bytes += writes.transfers * writes.bytes;
+    if (shared) t.bus_cycles += writes.transfers * bus_occupancy(a, writes.bytes);
   };
+  t.writes = units;
+  if (f.routed) {
+    const auto [first, last] = f.route_of(id);
+    t.writes = static_cast<std::uint64_t>(last - first);
+    for (const std::uint32_t* p = first; p != last;) {  // wave by wave, the last flagged kWaveEnd
+      const std::uint32_t* end = p;
+      while (!(*end++ & kWaveEnd)) {
+      }
+      wave({p, end});
+      p = end;
+    }
+  } else {
+    wave({});
+  }
+  const std::uint64_t answer = answer_bytes<T>(f.rays[id].kind);
+  t.answer_bytes = t.writes * answer;
+  if (shared) t.bus_cycles += t.writes * bus_occupancy(a, answer);
+  return t;
+}
+
+// The counts (not the times) of frame f on `units` units.
+template <typename T>
+void count_ray_figures(const FunctionalFrame<T>& f, const Arch& a, std::size_t units, RayFigures& out) {
   for (KindFigures& k : out.kind) k = KindFigures{};
   out.by_depth.clear();
   for (std::uint32_t id = 0; id < f.ray_count(); ++id) {
@@ -51,22 +83,10 @@ void count_ray_figures(const FunctionalFrame<T>& f, const Arch& a, std::size_t u
     ++kf.rays;
     if (r.depth >= out.by_depth.size()) out.by_depth.resize(r.depth + 1u, {});
     ++out.by_depth[r.depth][k];
-    std::uint64_t writes = units;
-    if (f.routed) {
-      const auto [first, last] = f.route_of(id);
-      writes = static_cast<std::uint64_t>(last - first);
-      for (const std::uint32_t* p = first; p != last;) {  // wave by wave, the last flagged kWaveEnd
-        const std::uint32_t* end = p;
-        while (!(*end++ & kWaveEnd)) {
-        }
-        kf.ray_bytes += bytes_of({p, end});
-        p = end;
-      }
-    } else {
-      kf.ray_bytes += bytes_of({});
-    }
-    kf.unit_writes += writes;
-    kf.answer_bytes += writes * answer_bytes<T>(r.kind);
+    const RayTraffic t = ray_traffic(f, a, units, id);
+    kf.ray_bytes += t.ray_bytes;
+    kf.unit_writes += t.writes;
+    kf.answer_bytes += t.answer_bytes;
   }
 }
 

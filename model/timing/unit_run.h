@@ -14,6 +14,7 @@
 #include "ref/functional_frame.h"
 #include "timing/pipeline_timing.h"
 #include "timing/ray_figures.h"
+#include "timing/sample_figures.h"
 #include "ref/work.h"
 
 #include <array>
@@ -77,6 +78,9 @@ struct GppFigures {
   // --top bvh: nodes of the units' trees over their spheres refitted this frame, the GPP's
   // cycles for that, and nodes built anew (the assignment changed) (gpp_plan.h)
   std::uint64_t refit_nodes = 0, refit_cycles = 0, built_nodes = 0;
+  // The frame's start (those loads, the refit, the registers written): cycles from the frame's
+  // beginning to its first ray (the same in a sampled run as in the full one).
+  std::uint64_t start_cycles = 0;
 
   std::uint64_t total_rays() const { return all_kinds(rays); }
 };
@@ -90,6 +94,7 @@ struct FrameFigures : GppFigures {
 };
 
 struct FrameRun : FrameFigures {
+  std::optional<SampleFrame> sample;  // --sample: the figures per traced pixel (sample_figures.h)
   std::vector<UnitRun> units;
   std::array<std::vector<WorkCounts>, kRayKinds> per_sphere;  // [kind][sphere], whichever unit did it
   std::vector<std::uint64_t> sphere_slices, unit_node_slices;  // FunctionalFrame's: when the work lay in the frame
